@@ -1,0 +1,22 @@
+#pragma once
+// Each sphbench subcommand registers itself on the app and sets the exit code when it runs.
+#include <CLI/CLI.hpp>
+
+namespace sph {
+
+struct CommandContext {
+    int argc;
+    char** argv;
+    int exit_code = 0;
+};
+
+void add_simulate_command(CLI::App& app, CommandContext& ctx);
+void add_info_command(CLI::App& app, CommandContext& ctx);
+
+// Exit codes of every command.
+constexpr int exit_ok = 0;
+constexpr int exit_regression = 1;
+constexpr int exit_usage = 2;
+constexpr int exit_run_failed = 3;
+
+}  // namespace sph

@@ -1,0 +1,22 @@
+#pragma once
+// Where a result came from: every CSV the harness writes starts with these lines.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sph {
+
+using Metadata = std::vector<std::pair<std::string, std::string>>;
+
+struct BuildInfo {
+    std::string git_commit, git_dirty, build_type, flags, precision, cuda_compiled;
+};
+BuildInfo build_info();
+
+// Build, backend, devices, host, date and command line, plus anything the caller adds.
+Metadata provenance(const std::string& backend, const std::string& devices, const std::string& command_line);
+
+std::string utc_now();
+std::string command_line_of(int argc, char** argv);
+
+}  // namespace sph

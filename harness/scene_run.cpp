@@ -1,0 +1,122 @@
+#include "scene_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "io/csv_writer.hpp"
+#include "progress.hpp"
+
+namespace sph {
+
+std::vector<std::string> step_csv_columns() {
+    std::vector<std::string> c = {"step", "time", "dt", "fluid", "boundary", "out_of_domain", "kinetic_energy",
+                                  "max_speed", "min_density", "max_density"};
+    for (const char* p : phase_names) c.push_back(std::string(p) + "_ms");
+    c.push_back("update_ms");
+    c.push_back("step_ms");
+    return c;
+}
+
+std::vector<std::string> step_csv_row(const StepRecord& r, const SceneRunResult& res) {
+    auto f = [](double v) { return CsvWriter::fmt(v); };
+    std::vector<std::string> row = {std::to_string(r.step),
+                                    f(r.time),
+                                    f(r.dt),
+                                    std::to_string(r.stats.fluid_count),
+                                    std::to_string(res.boundary),
+                                    std::to_string(r.out_of_domain),
+                                    f(r.stats.kinetic_energy),
+                                    f(std::sqrt(double(r.stats.max_speed2))),
+                                    f(r.stats.min_density),
+                                    f(r.stats.max_density)};
+    double total = 0;
+    for (double t : r.phase_ms) {
+        row.push_back(f(t));
+        total += t;
+    }
+    row.push_back(f(update_time(r.phase_ms)));
+    row.push_back(f(total));
+    return row;
+}
+
+SceneRunResult run_scene(const SceneRunRequest& req) {
+    SceneRunResult res;
+    const Scene scene = make_scene(req.scene, req.scene_options);
+    res.particles = scene.size();
+    res.fluid = scene.fluid_count();
+    res.boundary = scene.n_boundary;
+    res.dp = scene.dp;
+    res.scene_settings = scene.settings;
+    Simulation sim(scene, req.solver);
+    res.device = sim.device_name();
+    res.bytes_allocated = sim.bytes_allocated();
+
+    namespace fs = std::filesystem;
+    const bool writing = !req.out_dir.empty();
+    std::unique_ptr<SnapshotSeries> snapshots;
+    if (writing && req.snapshot_every > 0)
+        snapshots = std::make_unique<SnapshotSeries>((fs::path(req.out_dir) / (req.basename + "_snapshots")).string(),
+                                                     req.basename);
+    auto write_snapshot = [&](const SnapshotData& s) {
+        if (!snapshots) return;
+        snapshots->write(s);
+    };
+    write_snapshot(sim.snapshot());
+
+    const long total = req.warmup + req.steps;
+    Progress progress(req.scene, total, req.progress);
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        for (long k = 1; k <= total; ++k) {
+            const StepRecord& r = sim.step();
+            const bool recorded = k > req.warmup;
+            if (recorded) {
+                res.steps.push_back(r);
+                const bool last = k == total;
+                const bool count = req.count_work_every > 0 ? (k - req.warmup) % req.count_work_every == 0 : last;
+                if (count) {
+                    const WorkCounters w = sim.count_work();
+                    res.work.candidates += w.candidates;
+                    res.work.neighbours += w.neighbours;
+                    res.work.ranges += w.ranges;
+                    ++res.work.samples;
+                }
+            }
+            if (snapshots && k % req.snapshot_every == 0) write_snapshot(sim.snapshot());
+            char detail[96];
+            std::snprintf(detail, sizeof detail, "t = %.4f s, %.2f ms/step", r.time, update_time(r.phase_ms));
+            progress.update(k, detail);
+        }
+    } catch (const BlowUpError& e) {
+        progress.finish();
+        if (writing) {
+            SnapshotSeries last((fs::path(req.out_dir)).string(), req.basename + "_last_good");
+            last.write(e.last_good);
+            throw RunError(std::string(e.what()) + "; the last good state is in " + last.xdmf_path());
+        }
+        throw;
+    }
+    progress.finish();
+    res.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (snapshots) {
+        for (const auto& f : snapshots->files()) res.files.push_back(f);
+        res.files.push_back(snapshots->xdmf_path());
+    }
+    if (writing && req.write_step_csv) {
+        Metadata meta = req.metadata;
+        meta.emplace_back("scene", req.scene);
+        for (const auto& [k, v] : res.scene_settings) meta.emplace_back("scene." + k, v);
+        meta.emplace_back("particles", std::to_string(res.particles));
+        meta.emplace_back("device", res.device);
+        const std::string path = (fs::path(req.out_dir) / (req.basename + "_steps.csv")).string();
+        CsvWriter csv(path, step_csv_columns(), meta);
+        for (const auto& r : res.steps) csv.row(step_csv_row(r, res));
+        csv.commit();
+        res.files.push_back(path);
+    }
+    return res;
+}
+
+}  // namespace sph

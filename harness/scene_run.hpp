@@ -1,0 +1,53 @@
+#pragma once
+// One run of one scene: build it, step it, record every step, write what was asked for.
+// Both `sphbench simulate` and the spec-driven `sphbench run` go through here.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "provenance.hpp"
+#include "simulation.hpp"
+
+namespace sph {
+
+struct SceneRunRequest {
+    std::string scene;
+    std::map<std::string, std::string> scene_options;
+    SolverOptions solver;
+    long steps = 100;
+    long warmup = 0;              // steps run first and not recorded
+    long snapshot_every = 0;      // 0: no snapshots
+    long count_work_every = 0;    // 0: work counters once, on the last step
+    std::string out_dir;          // "" writes nothing
+    std::string basename;         // file stem of this run's outputs
+    bool write_step_csv = true;
+    bool progress = true;
+    Metadata metadata;            // provenance lines for every file
+};
+
+struct WorkTotals {
+    unsigned long long candidates = 0, neighbours = 0, ranges = 0;
+    long samples = 0;  // how many steps were counted
+};
+
+struct SceneRunResult {
+    std::vector<StepRecord> steps;  // recorded (post warm-up) steps
+    WorkTotals work;
+    std::size_t particles = 0, fluid = 0, boundary = 0;
+    std::size_t bytes_allocated = 0;
+    double dp = 0;
+    std::string device;
+    double wall_seconds = 0;
+    std::vector<std::string> files;  // what was written
+    std::map<std::string, std::string> scene_settings;
+};
+
+// Throws InputError for bad input and RunError (BlowUpError) when the run fails; on a
+// blow-up the last good state is written beside the other outputs first.
+SceneRunResult run_scene(const SceneRunRequest& request);
+
+// The per-step table columns, shared by the CSV writer and its readers.
+std::vector<std::string> step_csv_columns();
+std::vector<std::string> step_csv_row(const StepRecord& r, const SceneRunResult& res);
+
+}  // namespace sph

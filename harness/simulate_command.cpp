@@ -1,0 +1,89 @@
+// sphbench simulate SCENE: runs one scene for N steps and reports its speed.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "cli_options.hpp"
+#include "commands.hpp"
+#include "scene_run.hpp"
+#include "statistics.hpp"
+
+namespace sph {
+namespace {
+
+struct SimulateArgs {
+    std::string scene;
+    std::vector<std::string> settings;
+    long steps = 100, warmup = 10, snapshot_every = 0;
+    std::string out = "results/simulate";
+    bool quiet = false;
+    SolverCli solver;
+};
+
+void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
+    std::vector<double> step_ms, update_ms, forces_ms;
+    for (const auto& s : r.steps) {
+        double total = 0;
+        for (double t : s.phase_ms) total += t;
+        step_ms.push_back(total);
+        update_ms.push_back(update_time(s.phase_ms));
+        forces_ms.push_back(s.phase_ms[std::size_t(Phase::forces)]);
+    }
+    const Summary st = summarize(step_ms), up = summarize(update_ms), fo = summarize(forces_ms);
+    const double pairs = r.work.samples ? double(r.work.neighbours) / double(r.work.samples) : 0;
+    std::printf("scene %s on %s (%s): %zu particles (%zu fluid, %zu boundary), spacing %.6g m\n", req.scene.c_str(),
+                r.device.c_str(), backend_name(req.solver.backend).c_str(), r.particles, r.fluid, r.boundary, r.dp);
+    if (r.steps.empty()) return;
+    const StepRecord& last = r.steps.back();
+    std::printf("%zu steps recorded after %ld warm-up, simulated time %.5g s, last dt %.3g s\n", r.steps.size(),
+                req.warmup, last.time, last.dt);
+    std::printf("time per step: median %.3f ms (quartiles %.3f to %.3f); update (forces + integration) %.3f ms\n",
+                st.median, st.q1, st.q3, up.median);
+    std::printf("throughput: %.1f million particle-steps per second\n", double(r.particles) / (st.median * 1e3));
+    std::printf("memory: %.0f bytes per particle (%.1f MiB allocated)\n",
+                double(r.bytes_allocated) / double(r.particles), double(r.bytes_allocated) / 1048576.0);
+    if (pairs > 0)
+        std::printf("neighbour pairs: %.0f per step (%.1f per particle), %.3g pairs per second in the force loop\n",
+                    pairs, pairs / double(r.particles), pairs / (fo.median * 1e-3));
+    if (last.out_of_domain > 0)
+        std::printf("warning: %zu fluid particles left the domain and were dropped\n", last.out_of_domain);
+    for (const auto& f : r.files) std::printf("wrote %s\n", f.c_str());
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App& app, CommandContext& ctx) {
+    auto args = std::make_shared<SimulateArgs>();
+    CLI::App* cmd = app.add_subcommand("simulate", "run one scene for N steps, show progress, report its speed");
+    cmd->add_option("scene", args->scene, "scene name (see `sphbench info`)")->required();
+    cmd->add_option("--set", args->settings, "scene option key=value (repeatable), e.g. particles=2980000");
+    cmd->add_option("--steps", args->steps, "steps to record")->check(CLI::PositiveNumber)->capture_default_str();
+    cmd->add_option("--warmup", args->warmup, "steps run first and not recorded")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_option("--snapshot-every", args->snapshot_every, "write an HDF5 snapshot every K steps (0: none)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--out", args->out, "output folder")->capture_default_str();
+    cmd->add_flag("--quiet", args->quiet, "no progress line");
+    add_solver_options(*cmd, args->solver);
+    cmd->callback([args, &ctx] {
+        SceneRunRequest req;
+        req.scene = args->scene;
+        req.scene_options = parse_settings(args->settings);
+        req.solver = solver_options(args->solver);
+        req.steps = args->steps;
+        req.warmup = args->warmup;
+        req.snapshot_every = args->snapshot_every;
+        req.out_dir = args->out;
+        req.basename = args->scene;
+        req.progress = !args->quiet;
+        req.metadata = provenance(backend_name(req.solver.backend),
+                                  req.solver.backend == BackendKind::cuda ? cuda_device_summary() : "host",
+                                  command_line_of(ctx.argc, ctx.argv));
+        const SceneRunResult r = run_scene(req);
+        print_summary(req, r);
+        ctx.exit_code = exit_ok;
+    });
+}
+
+}  // namespace sph

@@ -1,0 +1,33 @@
+#pragma once
+// Driver functions: the only way host code launches the CUDA kernels (HOOMD-blue's pattern).
+// Each takes plain pointers and a stream, and checks its launch.
+#include <cuda_runtime.h>
+
+#include "backend/subdomain.hpp"
+
+namespace sph::gpu {
+
+// n_active points at the device copy of cell_start[cell_count]: kernels launched over all
+// n particles skip those past it (they left the domain) without a host round trip.
+void make_sort_keys(const std::uint32_t* cell, const std::uint32_t* id, std::uint64_t* keys, std::uint32_t* order,
+                    std::uint32_t n, cudaStream_t s);
+void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, const real4* pos_in, const real4* velrho_in,
+                   real4* pos_out, real4* velrho_out, std::uint32_t* cell, std::uint32_t* id, std::uint32_t n,
+                   cudaStream_t s);
+void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::uint32_t cell_count,
+                      std::uint32_t* cell_start, cudaStream_t s);
+void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, const std::uint32_t* n_active,
+                    std::uint32_t n, cudaStream_t s);
+void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
+                const SubdomainConfig& cfg, const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s);
+void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, const std::uint32_t* n_active,
+          std::uint32_t n, cudaStream_t s);
+// Bytes of temporary storage reduce_stats needs for n particles.
+std::size_t reduce_stats_temp_bytes(std::uint32_t n);
+void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, const std::uint32_t* n_active,
+                  real half_dt, const PhysicsParams& p, const StatsLimits& lim, std::uint32_t n, void* temp,
+                  std::size_t temp_bytes, StepStats* out, cudaStream_t s);
+void count_work(const SubdomainConfig& cfg, const ForceInputs& in, const std::uint32_t* n_active, std::uint32_t n,
+                unsigned long long* counters3, cudaStream_t s);
+
+}  // namespace sph::gpu

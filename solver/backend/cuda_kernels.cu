@@ -1,0 +1,184 @@
+// CUDA kernels: thin wrappers that run the shared per-particle functions, one thread per
+// particle, plus the CCCL calls that build cell ranges and reductions.
+#include <cub/block/block_reduce.cuh>
+#include <cub/device/device_reduce.cuh>
+#include <thrust/binary_search.h>
+#include <thrust/execution_policy.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/iterator/transform_iterator.h>
+
+#include "backend/cuda_drivers.cuh"
+#include "backend/cuda_check.cuh"
+#include "physics/dispatch.hpp"
+#include "physics/integration.hpp"
+
+namespace sph::gpu {
+namespace {
+
+constexpr int block_size = 128;
+inline unsigned blocks_for(std::uint32_t n) { return (n + block_size - 1) / block_size; }
+
+__global__ void make_sort_keys_kernel(const std::uint32_t* cell, const std::uint32_t* id, std::uint64_t* keys,
+                                      std::uint32_t* order, std::uint32_t n) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    keys[i] = (std::uint64_t(cell[i]) << 32) | id[i];
+    order[i] = i;
+}
+
+__global__ void gather_sorted_kernel(const std::uint64_t* keys, const std::uint32_t* order, const real4* pos_in,
+                                     const real4* velrho_in, real4* pos_out, real4* velrho_out, std::uint32_t* cell,
+                                     std::uint32_t* id, std::uint32_t n) {
+    const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+    if (k >= n) return;
+    const std::uint32_t j = order[k];
+    pos_out[k] = pos_in[j];
+    velrho_out[k] = velrho_in[j];
+    const std::uint64_t key = keys[k];
+    cell[k] = std::uint32_t(key >> 32);
+    id[k] = std::uint32_t(key);
+}
+
+template <class Kernel, class Search, bool Diffusion>
+__global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force,
+                                                            const std::uint32_t* n_active) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *n_active) return;
+    const Kernel kernel(p.h);
+    force[i] = particle_force<Kernel, Search, Diffusion>(i, in, p, kernel);
+}
+
+__global__ void kick_drift_kernel(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt,
+                                  real dt, GridView g, PhysicsParams p, const std::uint32_t* n_active) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *n_active) return;
+    particle_kick_drift(i, pos, velrho, cell, force, half_dt, dt, g, p);
+}
+
+__global__ void kick_kernel(real4* velrho, const real4* force, real half_dt, PhysicsParams p,
+                            const std::uint32_t* n_active) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *n_active) return;
+    particle_kick(i, velrho, force, half_dt, p);
+}
+
+template <class Search>
+__global__ void count_work_kernel(ForceInputs in, PhysicsParams p, const std::uint32_t* n_active,
+                                  unsigned long long* counters) {
+    using Reduce = cub::BlockReduce<unsigned long long, block_size>;
+    __shared__ typename Reduce::TempStorage tmp[3];
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    SearchWork w;
+    if (i < *n_active) w = particle_search_work<Search>(i, in, p);
+    const auto c = Reduce(tmp[0]).Sum(w.candidates);
+    const auto nb = Reduce(tmp[1]).Sum(w.neighbours);
+    const auto r = Reduce(tmp[2]).Sum(w.ranges);
+    if (threadIdx.x == 0) {
+        atomicAdd(counters + 0, c);
+        atomicAdd(counters + 1, nb);
+        atomicAdd(counters + 2, r);
+    }
+}
+
+// Per-particle statistics as an iterator, so one CUB reduction does all of them.
+struct StatsOfParticle {
+    const real4* velrho;
+    const real4* force;
+    const std::uint32_t* id;
+    const std::uint32_t* n_active;
+    real half_dt;
+    PhysicsParams p;
+    StatsLimits lim;
+    __device__ StepStats operator()(std::uint32_t i) const {
+        if (i >= *n_active) return StepStats{};
+        return particle_stats(i, velrho, force, id, half_dt, p, lim);
+    }
+};
+struct MergeStats {
+    __device__ StepStats operator()(const StepStats& a, const StepStats& b) const { return merge_stats(a, b); }
+};
+
+auto stats_iterator(const StatsOfParticle& op) {
+    return thrust::make_transform_iterator(thrust::make_counting_iterator<std::uint32_t>(0), op);
+}
+
+}  // namespace
+
+void make_sort_keys(const std::uint32_t* cell, const std::uint32_t* id, std::uint64_t* keys, std::uint32_t* order,
+                    std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    make_sort_keys_kernel<<<blocks_for(n), block_size, 0, s>>>(cell, id, keys, order, n);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, const real4* pos_in, const real4* velrho_in,
+                   real4* pos_out, real4* velrho_out, std::uint32_t* cell, std::uint32_t* id, std::uint32_t n,
+                   cudaStream_t s) {
+    if (n == 0) return;
+    gather_sorted_kernel<<<blocks_for(n), block_size, 0, s>>>(keys, order, pos_in, velrho_in, pos_out, velrho_out,
+                                                               cell, id, n);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::uint32_t cell_count,
+                      std::uint32_t* cell_start, cudaStream_t s) {
+    // cell_start[c] = first sorted particle whose cell is >= c, for c = 0 .. cell_count.
+    thrust::lower_bound(thrust::cuda::par_nosync.on(s), sorted_cell, sorted_cell + n,
+                        thrust::make_counting_iterator<std::uint32_t>(0),
+                        thrust::make_counting_iterator<std::uint32_t>(cell_count + 1), cell_start);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, const std::uint32_t* n_active,
+                    std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    dispatch_physics(cfg.kernel, cfg.diffusion, cfg.search, [&](auto k, auto srch, auto diffusion) {
+        using Kernel = typename decltype(k)::type;
+        using Search = typename decltype(srch)::type;
+        forces_kernel<Kernel, Search, decltype(diffusion)::value>
+            <<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, n_active);
+    });
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
+                const SubdomainConfig& cfg, const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    kick_drift_kernel<<<blocks_for(n), block_size, 0, s>>>(pos, velrho, cell, force, half_dt, dt, cfg.grid,
+                                                            cfg.params, n_active);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, const std::uint32_t* n_active,
+          std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    kick_kernel<<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, p, n_active);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+std::size_t reduce_stats_temp_bytes(std::uint32_t n) {
+    std::size_t bytes = 0;
+    SPH_CUDA_CHECK(cub::DeviceReduce::Reduce(nullptr, bytes, stats_iterator(StatsOfParticle{}),
+                                             static_cast<StepStats*>(nullptr), n, MergeStats{}, StepStats{}));
+    return bytes;
+}
+
+void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, const std::uint32_t* n_active,
+                  real half_dt, const PhysicsParams& p, const StatsLimits& lim, std::uint32_t n, void* temp,
+                  std::size_t temp_bytes, StepStats* out, cudaStream_t s) {
+    const StatsOfParticle op{velrho, force, id, n_active, half_dt, p, lim};
+    SPH_CUDA_CHECK(cub::DeviceReduce::Reduce(temp, temp_bytes, stats_iterator(op), out, n, MergeStats{}, StepStats{}, s));
+}
+
+void count_work(const SubdomainConfig& cfg, const ForceInputs& in, const std::uint32_t* n_active, std::uint32_t n,
+                unsigned long long* counters3, cudaStream_t s) {
+    SPH_CUDA_CHECK(cudaMemsetAsync(counters3, 0, 3 * sizeof(unsigned long long), s));
+    if (n == 0) return;
+    dispatch_search(cfg.search, [&](auto srch) {
+        using Search = typename decltype(srch)::type;
+        count_work_kernel<Search><<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, n_active, counters3);
+    });
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+}  // namespace sph::gpu

@@ -1,0 +1,268 @@
+// The CUDA backend: one subdomain on one GPU, its buffers, its stream and its event clock.
+// Kernels are reached only through the driver functions of cuda_drivers.cuh.
+#include <cub/device/device_radix_sort.cuh>
+
+#include <cstdio>
+#include <vector>
+
+#include "backend/cuda_drivers.cuh"
+#include "backend/device_buffer.cuh"
+
+namespace sph {
+namespace {
+
+// CUDA events on the subdomain's stream; a pool reused every step.
+class CudaPhaseClock final : public PhaseClock {
+public:
+    explicit CudaPhaseClock(cudaStream_t s) : stream_(s) {}
+    ~CudaPhaseClock() override {
+        for (auto& m : marks_) {
+            cudaEventDestroy(m.begin);
+            cudaEventDestroy(m.end);
+        }
+    }
+    void begin(Phase p) override {
+        if (used_ == marks_.size()) {
+            Mark m{};
+            SPH_CUDA_CHECK(cudaEventCreate(&m.begin));
+            SPH_CUDA_CHECK(cudaEventCreate(&m.end));
+            marks_.push_back(m);
+        }
+        marks_[used_].phase = p;
+        SPH_CUDA_CHECK(cudaEventRecord(marks_[used_].begin, stream_));
+    }
+    void end(Phase) override {
+        SPH_CUDA_CHECK(cudaEventRecord(marks_[used_].end, stream_));
+        ++used_;
+    }
+    PhaseTimes collect() override {
+        PhaseTimes t{};
+        if (used_ > 0) SPH_CUDA_CHECK(cudaEventSynchronize(marks_[used_ - 1].end));
+        for (std::size_t k = 0; k < used_; ++k) {
+            float ms = 0;
+            SPH_CUDA_CHECK(cudaEventElapsedTime(&ms, marks_[k].begin, marks_[k].end));
+            t[std::size_t(marks_[k].phase)] += ms;
+        }
+        used_ = 0;
+        return t;
+    }
+
+private:
+    struct Mark {
+        cudaEvent_t begin, end;
+        Phase phase;
+    };
+    cudaStream_t stream_;
+    std::vector<Mark> marks_;
+    std::size_t used_ = 0;
+};
+
+// Bytes per particle of the buffers below (what the memory estimate and the report use).
+constexpr std::size_t bytes_per_particle =
+    2 * sizeof(real4) * 2 + sizeof(real4) + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t) +
+    2 * sizeof(std::uint32_t);
+
+class CudaSubdomain final : public Subdomain {
+public:
+    CudaSubdomain(const SubdomainConfig& cfg, std::size_t capacity, int device)
+        : cfg_(cfg), device_(device), stream_(create_stream(device)), clock_(stream_) {
+        cudaDeviceProp prop{};
+        SPH_CUDA_CHECK(cudaGetDeviceProperties(&prop, device));
+        name_ = prop.name;
+        const std::uint32_t ncells = cfg.grid.cell_count();
+        std::size_t sort_temp = 0;
+        cub::DoubleBuffer<std::uint64_t> kb(nullptr, nullptr);
+        cub::DoubleBuffer<std::uint32_t> vb(nullptr, nullptr);
+        SPH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, sort_temp, kb, vb, int(capacity)));
+        const std::size_t reduce_temp = gpu::reduce_stats_temp_bytes(std::uint32_t(capacity));
+        temp_bytes_ = std::max(sort_temp, reduce_temp);
+        const std::size_t need = capacity * bytes_per_particle + (std::size_t(ncells) + 1) * 4 + temp_bytes_ + (64 << 20);
+        std::size_t free_b = 0, total_b = 0;
+        SPH_CUDA_CHECK(cudaMemGetInfo(&free_b, &total_b));
+        if (need > free_b) {
+            char msg[320];
+            std::snprintf(msg, sizeof msg,
+                          "the scene needs %.2f GiB of GPU memory (%zu particles, %u cells) but %s (GPU %d) has "
+                          "%.2f GiB free of %.2f GiB; use fewer particles",
+                          need / 1073741824.0, capacity, ncells, name_.c_str(), device, free_b / 1073741824.0,
+                          total_b / 1073741824.0);
+            throw InputError(msg);
+        }
+        for (auto* b : {&pos_, &pos_alt_, &velrho_, &velrho_alt_}) b->allocate(capacity);
+        force_.allocate(capacity);
+        cell_.allocate(capacity);
+        id_.allocate(capacity);
+        keys_.allocate(capacity);
+        keys_alt_.allocate(capacity);
+        order_.allocate(capacity);
+        order_alt_.allocate(capacity);
+        cell_start_.allocate(std::size_t(ncells) + 1);
+        temp_.allocate(temp_bytes_);
+        stats_.allocate(1);
+        counters_.allocate(3);
+        SPH_CUDA_CHECK(cudaMallocHost(reinterpret_cast<void**>(&host_stats_), sizeof(StepStats)));
+        // The number of significant key bits: id in the low 32, then the cell (with its sentinel).
+        int bits = 1;
+        while ((std::uint64_t(1) << bits) <= ncells) ++bits;
+        key_bits_ = 32 + bits;
+    }
+    ~CudaSubdomain() override {
+        cudaFreeHost(host_stats_);
+        if (stream_) cudaStreamDestroy(stream_);
+    }
+
+    BackendKind backend() const override { return BackendKind::cuda; }
+    std::string device_name() const override { return name_; }
+
+    void upload(const ParticleArrays& p) override {
+        n_ = std::uint32_t(p.size());
+        if (n_ > pos_.size()) throw RunError("more particles than the CUDA subdomain was sized for");
+        pos_.upload(p.pos.data(), n_, stream_);
+        velrho_.upload(p.velrho.data(), n_, stream_);
+        cell_.upload(p.cell.data(), n_, stream_);
+        id_.upload(p.id.data(), n_, stream_);
+        if (!p.force.empty()) force_.upload(p.force.data(), n_, stream_);
+        else SPH_CUDA_CHECK(cudaMemsetAsync(force_.data(), 0, force_.bytes(), stream_));
+        // Until the first sort every particle counts as active.
+        const std::uint32_t ncells = cfg_.grid.cell_count();
+        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + ncells, &n_, sizeof n_, cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        n_active_ = n_;
+    }
+
+    ParticleArrays download() override {
+        ParticleArrays p;
+        p.pos.resize(n_);
+        p.velrho.resize(n_);
+        p.force.resize(n_);
+        p.cell.resize(n_);
+        p.id.resize(n_);
+        pos_.download(p.pos.data(), n_, stream_);
+        velrho_.download(p.velrho.data(), n_, stream_);
+        force_.download(p.force.data(), n_, stream_);
+        cell_.download(p.cell.data(), n_, stream_);
+        id_.download(p.id.data(), n_, stream_);
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        return p;
+    }
+
+    void sort_by_cell() override {
+        gpu::make_sort_keys(cell_.data(), id_.data(), keys_.data(), order_.data(), n_, stream_);
+        cub::DoubleBuffer<std::uint64_t> kb(keys_.data(), keys_alt_.data());
+        cub::DoubleBuffer<std::uint32_t> vb(order_.data(), order_alt_.data());
+        std::size_t tb = temp_bytes_;
+        SPH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(temp_.data(), tb, kb, vb, int(n_), 0, key_bits_, stream_));
+        gpu::gather_sorted(kb.Current(), vb.Current(), pos_.data(), velrho_.data(), pos_alt_.data(),
+                           velrho_alt_.data(), cell_.data(), id_.data(), n_, stream_);
+        pos_.swap(pos_alt_);
+        velrho_.swap(velrho_alt_);
+        gpu::build_cell_start(cell_.data(), n_, cfg_.grid.cell_count(), cell_start_.data(), stream_);
+        active_stale_ = true;
+    }
+
+    void compute_forces() override {
+        gpu::compute_forces(cfg_, inputs(), force_.data(), n_active_ptr(), n_, stream_);
+    }
+    void kick_drift(real half_dt, real dt) override {
+        gpu::kick_drift(pos_.data(), velrho_.data(), cell_.data(), force_.data(), half_dt, dt, cfg_, n_active_ptr(),
+                        n_, stream_);
+    }
+    void kick(real half_dt) override {
+        gpu::kick(velrho_.data(), force_.data(), half_dt, cfg_.params, n_active_ptr(), n_, stream_);
+    }
+
+    StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
+        gpu::reduce_stats(velrho_.data(), force_.data(), id_.data(), n_active_ptr(), half_dt, cfg_.params, limits, n_,
+                          temp_.data(), temp_bytes_, stats_.data(), stream_);
+        stats_.download(host_stats_, 1, stream_);
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        return *host_stats_;
+    }
+
+    WorkCounters count_work() override {
+        gpu::count_work(cfg_, inputs(), n_active_ptr(), n_, counters_.data(), stream_);
+        unsigned long long c[3];
+        counters_.download(c, 3, stream_);
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        return {c[0], c[1], c[2]};
+    }
+
+    std::size_t active_count() const override {
+        if (active_stale_) {
+            SPH_CUDA_CHECK(cudaMemcpyAsync(&n_active_, n_active_ptr(), sizeof n_active_, cudaMemcpyDeviceToHost, stream_));
+            SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+            active_stale_ = false;
+        }
+        return n_active_;
+    }
+    std::size_t bytes_allocated() const override {
+        return pos_.size() * bytes_per_particle + cell_start_.bytes() + temp_.bytes();
+    }
+    PhaseClock& clock() override { return clock_; }
+
+private:
+    ForceInputs inputs() const {
+        return {pos_.data(), velrho_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
+    }
+    const std::uint32_t* n_active_ptr() const { return cell_start_.data() + cfg_.grid.cell_count(); }
+    static cudaStream_t create_stream(int device) {
+        SPH_CUDA_CHECK(cudaSetDevice(device));
+        cudaStream_t s = nullptr;
+        SPH_CUDA_CHECK(cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking));
+        return s;
+    }
+
+    SubdomainConfig cfg_;
+    int device_;
+    std::string name_;
+    cudaStream_t stream_ = nullptr;
+    CudaPhaseClock clock_;
+    DeviceBuffer<real4> pos_, pos_alt_, velrho_, velrho_alt_, force_;
+    DeviceBuffer<std::uint32_t> cell_, id_, order_, order_alt_, cell_start_;
+    DeviceBuffer<std::uint64_t> keys_, keys_alt_;
+    DeviceBuffer<unsigned char> temp_;
+    DeviceBuffer<StepStats> stats_;
+    DeviceBuffer<unsigned long long> counters_;
+    StepStats* host_stats_ = nullptr;
+    std::size_t temp_bytes_ = 0;
+    int key_bits_ = 64;
+    std::uint32_t n_ = 0;
+    mutable std::uint32_t n_active_ = 0;
+    mutable bool active_stale_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Subdomain> make_cuda_subdomain(const SubdomainConfig& cfg, std::size_t capacity, int device) {
+    int count = 0;
+    if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0)
+        throw InputError("the CUDA backend was asked for, but no CUDA GPU is visible");
+    if (device < 0 || device >= count)
+        throw InputError("GPU " + std::to_string(device) + " does not exist: this machine has " +
+                         std::to_string(count) + " GPU(s)");
+    return std::make_unique<CudaSubdomain>(cfg, capacity, device);
+}
+
+bool cuda_backend_available() {
+    int count = 0;
+    return cudaGetDeviceCount(&count) == cudaSuccess && count > 0;
+}
+
+std::string cuda_device_summary() {
+    int count = 0, driver = 0, runtime = 0;
+    if (cudaGetDeviceCount(&count) != cudaSuccess) count = 0;
+    cudaDriverGetVersion(&driver);
+    cudaRuntimeGetVersion(&runtime);
+    std::string s;
+    for (int d = 0; d < count; ++d) {
+        cudaDeviceProp prop{};
+        if (cudaGetDeviceProperties(&prop, d) != cudaSuccess) continue;
+        if (!s.empty()) s += "; ";
+        s += prop.name;
+    }
+    return s + (s.empty() ? "" : " | ") + "driver " + std::to_string(driver / 1000) + "." +
+           std::to_string(driver % 1000 / 10) + ", runtime " + std::to_string(runtime / 1000) + "." +
+           std::to_string(runtime % 1000 / 10);
+}
+
+}  // namespace sph

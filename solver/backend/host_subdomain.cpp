@@ -1,0 +1,169 @@
+// The host backend: the same per-particle functions as the CUDA kernels, run by OpenMP loops.
+// CI has no GPU, so this is how every algorithm is tested.
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+
+#include "backend/subdomain.hpp"
+#include "physics/dispatch.hpp"
+#include "physics/integration.hpp"
+
+namespace sph {
+namespace {
+
+class SteadyPhaseClock final : public PhaseClock {
+public:
+    void begin(Phase p) override { start_[std::size_t(p)] = std::chrono::steady_clock::now(); }
+    void end(Phase p) override {
+        const auto dt = std::chrono::steady_clock::now() - start_[std::size_t(p)];
+        times_[std::size_t(p)] += std::chrono::duration<double, std::milli>(dt).count();
+    }
+    PhaseTimes collect() override {
+        PhaseTimes t = times_;
+        times_.fill(0);
+        return t;
+    }
+
+private:
+    std::array<std::chrono::steady_clock::time_point, phase_count> start_{};
+    PhaseTimes times_{};
+};
+
+class HostSubdomain final : public Subdomain {
+public:
+    explicit HostSubdomain(const SubdomainConfig& cfg) : cfg_(cfg), cell_start_(cfg.grid.cell_count() + 1, 0) {}
+
+    BackendKind backend() const override { return BackendKind::host; }
+    std::string device_name() const override { return "host"; }
+
+    void upload(const ParticleArrays& p) override {
+        a_ = p;
+        a_.force.assign(p.size(), real4{0, 0, 0, 0});
+        if (!p.force.empty()) a_.force = p.force;
+        n_active_ = p.size();
+    }
+    ParticleArrays download() override { return a_; }
+
+    void sort_by_cell() override {
+        const std::size_t n = a_.size();
+        order_.resize(n);
+        keys_.resize(n);
+#pragma omp parallel for
+        for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
+            keys_[i] = (std::uint64_t(a_.cell[i]) << 32) | a_.id[i];
+        std::iota(order_.begin(), order_.end(), 0u);
+        std::sort(order_.begin(), order_.end(), [&](std::uint32_t x, std::uint32_t y) { return keys_[x] < keys_[y]; });
+        gather(a_.pos);
+        gather(a_.velrho);
+        gather(a_.cell);
+        gather(a_.id);
+        // cell_start[c] = first sorted particle with cell >= c.
+        const std::uint32_t ncells = cfg_.grid.cell_count();
+        std::uint32_t j = 0;
+        for (std::uint32_t c = 0; c <= ncells; ++c) {
+            while (j < n && a_.cell[j] < c) ++j;
+            cell_start_[c] = j;
+        }
+        n_active_ = cell_start_[ncells];
+    }
+
+    void compute_forces() override {
+        const ForceInputs in = inputs();
+        const PhysicsParams p = cfg_.params;
+        real4* force = a_.force.data();
+        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        dispatch_physics(cfg_.kernel, cfg_.diffusion, cfg_.search, [&](auto k, auto s, auto diffusion) {
+            using Kernel = typename decltype(k)::type;
+            using Search = typename decltype(s)::type;
+            const Kernel kernel(p.h);
+#pragma omp parallel for schedule(static)
+            for (std::ptrdiff_t i = 0; i < n; ++i)
+                force[i] = particle_force<Kernel, Search, decltype(diffusion)::value>(std::uint32_t(i), in, p, kernel);
+        });
+    }
+
+    void kick_drift(real half_dt, real dt) override {
+        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < n; ++i)
+            particle_kick_drift(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.cell.data(), a_.force.data(),
+                                half_dt, dt, cfg_.grid, cfg_.params);
+    }
+
+    void kick(real half_dt) override {
+        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < n; ++i)
+            particle_kick(std::uint32_t(i), a_.velrho.data(), a_.force.data(), half_dt, cfg_.params);
+    }
+
+    StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
+        StepStats total;
+        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+#pragma omp parallel
+        {
+            StepStats local;
+#pragma omp for schedule(static) nowait
+            for (std::ptrdiff_t i = 0; i < n; ++i)
+                local = merge_stats(local, particle_stats(std::uint32_t(i), a_.velrho.data(), a_.force.data(),
+                                                          a_.id.data(), half_dt, cfg_.params, limits));
+#pragma omp critical
+            total = merge_stats(total, local);
+        }
+        return total;
+    }
+
+    WorkCounters count_work() override {
+        const ForceInputs in = inputs();
+        unsigned long long cand = 0, nb = 0, ranges = 0;
+        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        dispatch_search(cfg_.search, [&](auto s) {
+            using Search = typename decltype(s)::type;
+#pragma omp parallel for reduction(+ : cand, nb, ranges)
+            for (std::ptrdiff_t i = 0; i < n; ++i) {
+                const SearchWork w = particle_search_work<Search>(std::uint32_t(i), in, cfg_.params);
+                cand += w.candidates;
+                nb += w.neighbours;
+                ranges += w.ranges;
+            }
+        });
+        return {cand, nb, ranges};
+    }
+
+    std::size_t active_count() const override { return n_active_; }
+    std::size_t bytes_allocated() const override {
+        return a_.size() * (2 * sizeof(real4) + sizeof(real4) + 2 * sizeof(std::uint32_t) + 12) +
+               cell_start_.size() * sizeof(std::uint32_t);
+    }
+    PhaseClock& clock() override { return clock_; }
+
+private:
+    ForceInputs inputs() const {
+        return {a_.pos.data(), a_.velrho.data(), a_.cell.data(), cell_start_.data(), cfg_.grid};
+    }
+    template <class T>
+    void gather(std::vector<T>& v) {
+        scratch_.resize(v.size() * sizeof(T));
+        T* tmp = reinterpret_cast<T*>(scratch_.data());
+        const std::ptrdiff_t n = std::ptrdiff_t(v.size());
+#pragma omp parallel for
+        for (std::ptrdiff_t i = 0; i < n; ++i) tmp[i] = v[order_[i]];
+        std::copy(tmp, tmp + n, v.begin());
+    }
+
+    SubdomainConfig cfg_;
+    ParticleArrays a_;
+    std::vector<std::uint32_t> cell_start_, order_;
+    std::vector<std::uint64_t> keys_;
+    std::vector<unsigned char> scratch_;
+    std::size_t n_active_ = 0;
+    SteadyPhaseClock clock_;
+};
+
+}  // namespace
+
+std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t) {
+    return std::make_unique<HostSubdomain>(cfg);
+}
+
+}  // namespace sph

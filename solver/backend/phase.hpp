@@ -1,0 +1,36 @@
+#pragma once
+// The phases of a step. One table gives each phase the name used both for its timer column
+// and for its NVTX range, so that Nsight timelines and CSV columns always agree.
+#include <array>
+#include <cstddef>
+
+namespace sph {
+
+enum class Phase : int { neighbour_list = 0, forces, integrate, diagnostics, exchange, migrate, balance, count };
+
+constexpr std::size_t phase_count = std::size_t(Phase::count);
+
+constexpr std::array<const char*, phase_count> phase_names = {
+    "neighbour_list", "forces", "integrate", "diagnostics", "exchange", "migrate", "balance"};
+
+constexpr const char* phase_name(Phase p) { return phase_names[std::size_t(p)]; }
+
+using PhaseTimes = std::array<double, phase_count>;  // milliseconds
+
+// The paper's "update of physical quantities": forces plus integration.
+inline double update_time(const PhaseTimes& t) {
+    return t[std::size_t(Phase::forces)] + t[std::size_t(Phase::integrate)];
+}
+
+// Times phases on whatever clock the backend has (CUDA events on the subdomain's stream,
+// a steady clock on the host). Begin/end pairs may repeat within a step; they add up.
+class PhaseClock {
+public:
+    virtual ~PhaseClock() = default;
+    virtual void begin(Phase p) = 0;
+    virtual void end(Phase p) = 0;
+    // Waits for the step's work and returns the accumulated times, then resets them.
+    virtual PhaseTimes collect() = 0;
+};
+
+}  // namespace sph

@@ -1,0 +1,74 @@
+#pragma once
+// A subdomain is the unit of execution: one device's share of space, its particles and the
+// phases of a step run on them. The host backend (OpenMP) and the CUDA backend implement
+// the same interface, so the time loop, tests and harness never know which one runs.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend/phase.hpp"
+#include "core/params.hpp"
+#include "core/smoothing_kernels.hpp"
+#include "neighbours/cell_search.hpp"
+#include "neighbours/grid.hpp"
+#include "physics/interaction.hpp"
+#include "physics/step_stats.hpp"
+
+namespace sph {
+
+// The particle arrays as the host sees them (same encoding as on the device, see particle.hpp).
+struct ParticleArrays {
+    std::vector<real4> pos, velrho, force;
+    std::vector<std::uint32_t> cell, id;
+    std::size_t size() const { return id.size(); }
+};
+
+struct SubdomainConfig {
+    PhysicsParams params;
+    GridView grid;
+    KernelType kernel = KernelType::wendland;
+    bool diffusion = true;
+    SearchOptions search;
+};
+
+struct WorkCounters {
+    unsigned long long candidates = 0, neighbours = 0, ranges = 0;
+};
+
+enum class BackendKind { host, cuda };
+
+class Subdomain {
+public:
+    virtual ~Subdomain() = default;
+    virtual BackendKind backend() const = 0;
+    virtual std::string device_name() const = 0;
+
+    virtual void upload(const ParticleArrays& particles) = 0;
+    virtual ParticleArrays download() = 0;
+
+    // Phase neighbour_list: sort by (cell, id) and build the cell ranges.
+    virtual void sort_by_cell() = 0;
+    // Phase forces: acceleration and density rate of every particle in the domain.
+    virtual void compute_forces() = 0;
+    // Phase integrate: the first half kick and the drift, then the final half kick.
+    virtual void kick_drift(real half_dt, real dt) = 0;
+    virtual void kick(real half_dt) = 0;
+    // Phase diagnostics: reductions over the state the final kick will produce.
+    virtual StepStats reduce_stats(real half_dt, const StatsLimits& limits) = 0;
+    // Not timed: counts the neighbour search's work for the current sorted state.
+    virtual WorkCounters count_work() = 0;
+
+    // Particles inside the domain after the last sort (the rest left it).
+    virtual std::size_t active_count() const = 0;
+    virtual std::size_t bytes_allocated() const = 0;
+    virtual PhaseClock& clock() = 0;
+};
+
+std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t capacity);
+// Throws RunError naming the need and the free memory when the scene does not fit.
+std::unique_ptr<Subdomain> make_cuda_subdomain(const SubdomainConfig& cfg, std::size_t capacity, int device);
+bool cuda_backend_available();  // compiled in and a GPU present
+std::string cuda_device_summary();  // names, driver and runtime versions; "" without CUDA
+
+}  // namespace sph

@@ -1,0 +1,27 @@
+#pragma once
+// How one particle is laid out in memory, and the accessors that hide the encoding.
+//
+//   pos    : x, y, z = offset of the particle inside its cell (0 <= offset < cell size),
+//            w = P / rho^2 at the density the next force evaluation uses.
+//            Keeping the offset relative to the cell (as GPUSPH and DualSPHysics do) means
+//            float32 loses no accuracy far from the origin: the cell index carries the
+//            coarse part exactly.
+//   velrho : x, y, z = velocity, w = density, negated for boundary particles. The sign is
+//            the particle type: the force loop learns the neighbour's type from a load it
+//            makes anyway.
+//   cell   : linear cell index in the subdomain grid (z fastest, then y, then x);
+//            out_of_domain_cell(grid) for particles that left the domain.
+//   id     : stable particle id; boundary particles have the lowest ids.
+#include "core/types.hpp"
+
+namespace sph {
+
+SPH_HD real density(const real4& velrho) { return velrho.w < 0 ? -velrho.w : velrho.w; }
+SPH_HD bool is_boundary(const real4& velrho) { return velrho.w < 0; }
+SPH_HD real4 make_velrho(real3 v, real rho, bool boundary) {
+    return {v.x, v.y, v.z, boundary ? -rho : rho};
+}
+
+enum class ParticleType : std::uint8_t { fluid = 0, boundary = 1 };
+
+}  // namespace sph

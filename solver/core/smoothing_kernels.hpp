@@ -1,0 +1,50 @@
+#pragma once
+// Smoothing kernels W(r, h) in 3D, both with support 2h. grad_factor(r) returns
+// (dW/dr) / r, so that grad W = r_ij * grad_factor: one multiply per component.
+#include "core/types.hpp"
+
+namespace sph {
+
+struct WendlandC2 {
+    static constexpr const char* name = "wendland";
+    real inv_h, norm;  // norm = 21 / (16 pi h^3)
+    SPH_HD explicit WendlandC2(real h) : inv_h(1 / h), norm(real(21.0 / (16.0 * 3.14159265358979323846)) / (h * h * h)) {}
+    SPH_HD real w(real r) const {
+        const real q = r * inv_h;
+        if (q >= 2) return 0;
+        const real t = 1 - q / 2;
+        const real t2 = t * t;
+        return norm * t2 * t2 * (2 * q + 1);
+    }
+    // dW/dr = norm * (-5 q (1 - q/2)^3) / h
+    SPH_HD real grad_factor(real r) const {
+        const real q = r * inv_h;
+        if (q >= 2) return 0;
+        const real t = 1 - q / 2;
+        return norm * real(-5) * t * t * t * inv_h * inv_h;  // (-5 q t^3 / h) / r, with q / r = 1 / h
+    }
+};
+
+struct CubicSpline {
+    static constexpr const char* name = "cubic";
+    real inv_h, norm;  // norm = 1 / (pi h^3)
+    SPH_HD explicit CubicSpline(real h) : inv_h(1 / h), norm(real(1.0 / 3.14159265358979323846) / (h * h * h)) {}
+    SPH_HD real w(real r) const {
+        const real q = r * inv_h;
+        if (q >= 2) return 0;
+        if (q < 1) return norm * (1 - real(1.5) * q * q + real(0.75) * q * q * q);
+        const real t = 2 - q;
+        return norm * real(0.25) * t * t * t;
+    }
+    SPH_HD real grad_factor(real r) const {
+        const real q = r * inv_h;
+        if (q >= 2) return 0;
+        if (q < 1) return norm * (real(-3) + real(2.25) * q) * inv_h * inv_h;  // (-3q + 2.25q^2)/h / r
+        const real t = 2 - q;
+        return norm * real(-0.75) * t * t * inv_h / (r > 0 ? r : real(1));
+    }
+};
+
+enum class KernelType { wendland, cubic };
+
+}  // namespace sph

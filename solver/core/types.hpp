@@ -1,0 +1,53 @@
+#pragma once
+// Scalar and vector types shared by host and device code. One source for the physics:
+// everything here compiles under both g++ (host backend) and nvcc (CUDA backend).
+#include <cstdint>
+#include <cmath>
+
+#if defined(__CUDACC__)
+#define SPH_HD __host__ __device__ __forceinline__
+#else
+#define SPH_HD inline
+#endif
+
+namespace sph {
+
+// SPH_DOUBLE builds the whole solver in float64 for reference runs (CMake option SPH_DOUBLE).
+#ifdef SPH_DOUBLE
+using real = double;
+#else
+using real = float;
+#endif
+
+// Aligned so that a particle's position or velocity is one vector load on the GPU.
+struct alignas(4 * sizeof(real)) real4 {
+    real x, y, z, w;
+};
+struct real3 {
+    real x, y, z;
+};
+struct int3v {
+    int x, y, z;
+};
+
+SPH_HD real3 make3(real x, real y, real z) { return {x, y, z}; }
+SPH_HD real3 xyz(const real4& a) { return {a.x, a.y, a.z}; }
+SPH_HD real4 make4(real3 a, real w) { return {a.x, a.y, a.z, w}; }
+SPH_HD real3 operator+(real3 a, real3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+SPH_HD real3 operator-(real3 a, real3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+SPH_HD real3 operator*(real s, real3 a) { return {s * a.x, s * a.y, s * a.z}; }
+SPH_HD real3& operator+=(real3& a, real3 b) { a.x += b.x; a.y += b.y; a.z += b.z; return a; }
+SPH_HD real3& operator-=(real3& a, real3 b) { a.x -= b.x; a.y -= b.y; a.z -= b.z; return a; }
+SPH_HD real dot(real3 a, real3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+SPH_HD real sqrt_r(real x) { return std::sqrt(x); }
+SPH_HD real floor_r(real x) { return std::floor(x); }
+SPH_HD bool finite_r(real x) {
+#if defined(__CUDA_ARCH__)
+    return isfinite(x);
+#else
+    return std::isfinite(x);
+#endif
+}
+
+}  // namespace sph
