@@ -57,6 +57,14 @@ double pick_spacing(double dp, long long target, const std::function<long long(d
         const double ratio = n > 0 ? double(n) / double(target) : 0.5;
         dp *= std::pow(ratio, (it < 10 ? 1.0 : 0.5) / 3.0);
     }
+    // Lattice counts are products of three step functions: scan near the best spacing for one
+    // that lands within 1% (cheap for boxes; meshes converge above and never get here).
+    for (int k = -400; k <= 400; ++k) {
+        const double trial = best_dp * (1 + 0.0001 * k);
+        const long long n = count(trial);
+        if (std::llabs(n - target) <= target / 100) return trial;
+        if (std::llabs(n - target) < std::llabs(best_n - target)) best_n = n;
+    }
     std::ostringstream m;
     m << "scene '" << scene << "' cannot reach " << target << " fluid particles within 1% (closest: " << best_n
       << " at spacing " << best_dp << ")";

@@ -1,0 +1,48 @@
+#pragma once
+// Small scenes built directly in tests (no lattice, no walls), and a brute-force reference.
+#include <random>
+
+#include "scenes/scene.hpp"
+#include "simulation.hpp"
+
+namespace sph::test {
+
+// n particles uniformly in a cube of side `side` at `corner`, jittered lattice-free random
+// positions; the first n_boundary are boundary particles. Domain = cube grown by `margin`.
+inline Scene random_scene(std::size_t n, std::size_t n_boundary, double side, double dp, unsigned seed,
+                          double margin = 0.0, double speed = 0.0) {
+    Scene s;
+    s.name = "random";
+    s.dp = dp;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0, side), v(-speed, speed), r(0.99, 1.01);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.position.push_back({u(rng), u(rng), u(rng)});
+        s.velocity.push_back({float(i < n_boundary ? 0 : v(rng)), float(i < n_boundary ? 0 : v(rng)),
+                              float(i < n_boundary ? 0 : v(rng))});
+        s.density.push_back(float(1000 * r(rng)));
+    }
+    s.n_boundary = n_boundary;
+    s.params.rho0 = 1000;
+    s.params.h = real(std::sqrt(3.0) * dp);
+    s.params.mass = real(1000 * dp * dp * dp);
+    s.params.c0 = 10;
+    s.params.alpha = real(0.1);
+    s.params.delta = real(0.1);
+    s.params.gravity = {0, 0, 0};
+    s.params = finish_params(s.params);
+    s.kernel = KernelType::wendland;
+    s.lo = {-margin, -margin, -margin};
+    s.hi = {side + margin, side + margin, side + margin};
+    return s;
+}
+
+// Absolute positions of a snapshot, indexed by particle id.
+inline std::vector<std::array<double, 3>> positions_by_id(const SnapshotData& s) {
+    std::vector<std::array<double, 3>> out(s.id.size());
+    for (std::size_t i = 0; i < s.id.size(); ++i)
+        out[s.id[i]] = {s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
+    return out;
+}
+
+}  // namespace sph::test
