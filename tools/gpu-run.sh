@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Builds for sm_90 here and runs a command on a GPU machine that lacks this project's build
+# dependencies (CLI11, toml++, GoogleTest, the HDF5 of this distribution).
+#
+#   tools/gpu-run.sh pack            on the build machine: build into build-gpu/ and gather the
+#                                    binaries, the shared libraries they need and the meshes
+#                                    into .carry/ (ignored by git; copy it to the GPU machine)
+#   tools/gpu-run.sh exec CMD ...    on the GPU machine, in the repository root: run CMD with
+#                                    .carry/bin on PATH, its libraries and meshes found
+#
+# Example (the figures of the README were made this way):
+#   tools/gpu-run.sh pack
+#   # ... copy the working tree with .carry/ to the GPU machine, then there:
+#   tools/gpu-run.sh exec sphbench simulate dsph-dambreak --steps 200 --backend cuda
+set -euo pipefail
+cd "$(dirname "$0")/.."
+CARRY=.carry
+
+case "${1:-}" in
+pack)
+  tools/install-deps.sh
+  cmake -S . -B build-gpu -DCMAKE_BUILD_TYPE=Release -DCMAKE_CUDA_ARCHITECTURES=90 >/dev/null
+  cmake --build build-gpu -j"${JOBS:-2}"
+  rm -rf "$CARRY" && mkdir -p "$CARRY/bin" "$CARRY/lib" "$CARRY/meshes"
+  cp build-gpu/harness/sphbench build-gpu/tests/sph_tests "$CARRY/bin/"
+  # Every shared library but the C runtime and the C++ runtime (the GPU machine's are newer).
+  ldd build-gpu/harness/sphbench build-gpu/tests/sph_tests | awk '$3 ~ /^\// {print $3}' | sort -u |
+    grep -v -E '/(libc|libm|libdl|libpthread|librt|ld-linux[^/]*|libstdc\+\+|libgcc_s)\.so' |
+    xargs -r -I{} cp -L {} "$CARRY/lib/"
+  MESHES=${SPH_MESH_DIR:-../shared/meshes}
+  [ -d "$MESHES" ] && cp "$MESHES"/*.obj "$CARRY/meshes/" || echo "gpu-run: no meshes found at $MESHES"
+  git rev-parse HEAD >"$CARRY/commit" 2>/dev/null || echo unknown >"$CARRY/commit"
+  [ -z "$(git status --porcelain --untracked-files=no 2>/dev/null)" ] && echo clean >"$CARRY/dirty" || echo dirty >"$CARRY/dirty"
+  du -sh "$CARRY"
+  ;;
+exec)
+  shift
+  [ -x "$CARRY/bin/sphbench" ] || { echo "gpu-run: no $CARRY/bin/sphbench; run 'tools/gpu-run.sh pack' first"; exit 2; }
+  export PATH="$PWD/$CARRY/bin:$PATH"
+  export LD_LIBRARY_PATH="$PWD/$CARRY/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+  export SPH_MESH_DIR="$PWD/$CARRY/meshes"
+  export SPH_GIT_COMMIT="$(cat $CARRY/commit)" SPH_GIT_DIRTY="$(cat $CARRY/dirty)"
+  export NCCL_NVLS_ENABLE=0  # never NVLink multicast on shared machines
+  "$@"
+  ;;
+*)
+  sed -n '2,16p' "$0"
+  exit 2
+  ;;
+esac
