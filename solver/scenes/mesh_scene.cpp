@@ -61,7 +61,7 @@ Scene make_mesh_scene(SceneOptions& opt, const std::string& name, const std::str
     const Fill fill = fill_mesh(mesh, test, s.dp);
     const double dp = s.dp;
     const double drop = opt.number("drop", 0.1, 0, 100) * (mesh.hi.z - mesh.lo.z);
-    const double spread = opt.number("spread", 1.0, 0.1, 100);  // box = mesh footprint grown by this on each side
+    const double spread = opt.number("spread", 0.5, 0.05, 100);  // box = mesh footprint grown by this on each side
     const int layers = int(opt.integer("layers", 2, 1, 5));
     const double origin[3] = {0, 0, 0};
     const double ex = (mesh.hi.x - mesh.lo.x) * spread, ey = (mesh.hi.y - mesh.lo.y) * spread;
