@@ -18,6 +18,13 @@ void add_solver_options(CLI::App& cmd, SolverCli& o) {
         ->check(CLI::PositiveNumber);
     cmd.add_option("--cfl", o.cfl, "CFL number (default: the scene's, 0.2)")->check(CLI::Range(1e-4, 1.0));
     cmd.add_flag("--no-diffusion", o.no_diffusion, "compile out delta-SPH density diffusion");
+    cmd.add_flag("--verlet", o.verlet, "Verlet lists: store neighbour lists and reuse them between rebuilds");
+    cmd.add_option("--skin", o.skin, "Verlet skin as a fraction of the support radius")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    cmd.add_option("--rebuild-every", o.rebuild_every,
+                   "rebuild Verlet lists every k steps (default: when particles may have moved half the skin)")
+        ->check(CLI::NonNegativeNumber);
 }
 
 std::string backend_name(BackendKind b) { return b == BackendKind::cuda ? "cuda" : "host"; }
@@ -33,6 +40,9 @@ SolverOptions solver_options(const SolverCli& o) {
     s.fixed_dt = o.fixed_dt;
     s.cfl = o.cfl;
     s.diffusion = !o.no_diffusion;
+    s.search.verlet = o.verlet;
+    s.search.skin = o.skin;
+    s.search.rebuild_every = o.rebuild_every;
     return s;
 }
 

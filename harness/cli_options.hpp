@@ -18,6 +18,9 @@ struct SolverCli {
     double fixed_dt = 0;
     double cfl = 0;
     bool no_diffusion = false;
+    bool verlet = false;
+    double skin = 0.1;
+    int rebuild_every = 0;
 };
 
 void add_solver_options(CLI::App& cmd, SolverCli& o);

@@ -66,7 +66,8 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
     Subdomain& d = *subdomains_.front();
     d.sort_by_cell();
     d.kick_drift(0, 0);
-    d.compute_forces();
+    if (options_.search.verlet) d.build_neighbour_list(verlet_skin());
+    options_.search.verlet ? d.compute_forces_listed() : d.compute_forces();
     record_.stats = d.reduce_stats(0, limits_);
     d.clock().collect();
 }
@@ -91,13 +92,21 @@ const StepRecord& Simulation::step() {
         ScopedPhase ph(clock, Phase::integrate, n, 0);
         d.kick_drift(half, real(dt));
     }
-    {
+    const bool verlet = options_.search.verlet;
+    if (!verlet || verlet_list_expired(dt)) {
         ScopedPhase ph(clock, Phase::neighbour_list, n, 0);
         d.sort_by_cell();
+        if (verlet) {
+            d.build_neighbour_list(verlet_skin());
+            steps_since_build_ = 0;
+            moved_since_build_ = 0;
+            ++list_builds_;
+        }
     }
+    ++steps_since_build_;
     {
         ScopedPhase ph(clock, Phase::forces, n, 0);
-        d.compute_forces();
+        verlet ? d.compute_forces_listed() : d.compute_forces();
     }
     StepStats stats;
     {
@@ -128,7 +137,26 @@ const StepRecord& Simulation::step() {
     return record_;
 }
 
+real Simulation::verlet_skin() const { return real(options_.search.skin * scene_.params.support); }
+
+// The lists hold while no two particles can have closed the skin: each has moved at most
+// sum of dt |v| since the build, bounded from the step statistics (no per-particle state).
+bool Simulation::verlet_list_expired(double dt) {
+    const SearchOptions& s = options_.search;
+    if (s.rebuild_every > 0) return steps_since_build_ >= s.rebuild_every;
+    const double vmax = std::sqrt(double(record_.stats.max_speed2));
+    const double amax = std::sqrt(double(record_.stats.max_accel2));
+    moved_since_build_ += dt * (vmax + 0.5 * dt * amax);
+    return moved_since_build_ > 0.5 * verlet_skin();
+}
+
 WorkCounters Simulation::count_work() { return subdomains_.front()->count_work(); }
+
+std::size_t Simulation::neighbour_list_bytes() const {
+    std::size_t b = 0;
+    for (const auto& d : subdomains_) b += d->neighbour_list_bytes();
+    return b;
+}
 
 std::size_t Simulation::bytes_allocated() const {
     std::size_t b = 0;

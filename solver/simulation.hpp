@@ -52,10 +52,14 @@ public:
     std::string device_name() const { return subdomains_.front()->device_name(); }
     std::size_t bytes_allocated() const;
     std::size_t particle_count() const { return n_total_; }
+    long neighbour_list_builds() const { return list_builds_; }
+    std::size_t neighbour_list_bytes() const;
     std::size_t fluid_count() const { return n_fluid_; }
 
 private:
     double next_dt() const;
+    real verlet_skin() const;
+    bool verlet_list_expired(double dt);
     SnapshotData to_snapshot(const ParticleArrays& a) const;
 
     Scene scene_;  // keeps params and metadata; positions are released after upload
@@ -65,6 +69,8 @@ private:
     StatsLimits limits_;
     StepRecord record_;
     std::size_t n_total_ = 0, n_fluid_ = 0;
+    long steps_since_build_ = 0, list_builds_ = 0;
+    double moved_since_build_ = 0;
 };
 
 // Converts absolute positions to the cell-relative form of particle.hpp.

@@ -18,6 +18,16 @@ void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::ui
                       std::uint32_t* cell_start, cudaStream_t s);
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, const std::uint32_t* n_active,
                     std::uint32_t n, cudaStream_t s);
+// Writes each particle's list and count; returns nothing (the caller reduces the counts).
+void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
+                           std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
+                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s);
+// The longest list, on the host (synchronises the stream).
+std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* temp, std::size_t temp_bytes,
+                           std::uint32_t* out, cudaStream_t s);
+std::size_t longest_list_temp_bytes(std::uint32_t n);
+void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
+                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s);
 void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
                 const SubdomainConfig& cfg, const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s);
 void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, const std::uint32_t* n_active,

@@ -48,6 +48,29 @@ __global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, Phys
     force[i] = particle_force<Kernel, Search, Diffusion>(i, in, p, kernel);
 }
 
+template <class Search>
+__global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in, real reach2, std::uint32_t* index,
+                                                                 std::uint32_t* count, std::uint32_t stride,
+                                                                 std::uint32_t capacity, const std::uint32_t* n_active) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *n_active) return;
+    count[i] = build_particle_list<Search>(i, in, reach2, index, stride, capacity);
+}
+
+template <class Kernel, bool Diffusion>
+__global__ void __launch_bounds__(block_size) forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p,
+                                                                   real4* __restrict__ force,
+                                                                   const std::uint32_t* n_active) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *n_active) return;
+    if (in.cell[i] >= in.grid.out_of_domain()) {  // left the domain since the last rebuild
+        force[i] = real4{0, 0, 0, 0};
+        return;
+    }
+    const Kernel kernel(p.h);
+    force[i] = particle_force_listed<Kernel, Diffusion>(i, in, list, p, kernel);
+}
+
 __global__ void kick_drift_kernel(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt,
                                   real dt, GridView g, PhysicsParams p, const std::uint32_t* n_active) {
     const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
@@ -137,6 +160,46 @@ void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* fo
         using Search = typename decltype(srch)::type;
         forces_kernel<Kernel, Search, decltype(diffusion)::value>
             <<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, n_active);
+    });
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
+                           std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
+                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s) {
+    SPH_CUDA_CHECK(cudaMemsetAsync(count, 0, std::size_t(n) * sizeof(std::uint32_t), s));
+    if (n == 0) return;
+    dispatch_search(cfg.search, [&](auto srch) {
+        using Search = typename decltype(srch)::type;
+        build_lists_kernel<Search><<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity,
+                                                                        n_active);
+    });
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+std::size_t longest_list_temp_bytes(std::uint32_t n) {
+    std::size_t bytes = 0;
+    SPH_CUDA_CHECK(cub::DeviceReduce::Max(nullptr, bytes, static_cast<const std::uint32_t*>(nullptr),
+                                          static_cast<std::uint32_t*>(nullptr), n));
+    return bytes;
+}
+
+std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* temp, std::size_t temp_bytes,
+                           std::uint32_t* out, cudaStream_t s) {
+    SPH_CUDA_CHECK(cub::DeviceReduce::Max(temp, temp_bytes, count, out, n, s));
+    std::uint32_t longest = 0;
+    SPH_CUDA_CHECK(cudaMemcpyAsync(&longest, out, sizeof longest, cudaMemcpyDeviceToHost, s));
+    SPH_CUDA_CHECK(cudaStreamSynchronize(s));
+    return longest;
+}
+
+void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
+                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
+        using Kernel = typename decltype(k)::type;
+        forces_listed_kernel<Kernel, decltype(diffusion)::value>
+            <<<blocks_for(n), block_size, 0, s>>>(in, list, cfg.params, force, n_active);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

@@ -75,7 +75,7 @@ public:
         cub::DoubleBuffer<std::uint32_t> vb(nullptr, nullptr);
         SPH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, sort_temp, kb, vb, int(capacity)));
         const std::size_t reduce_temp = gpu::reduce_stats_temp_bytes(std::uint32_t(capacity));
-        temp_bytes_ = std::max(sort_temp, reduce_temp);
+        temp_bytes_ = std::max({sort_temp, reduce_temp, gpu::longest_list_temp_bytes(std::uint32_t(capacity))});
         const std::size_t need = capacity * bytes_per_particle + (std::size_t(ncells) + 1) * 4 + temp_bytes_ + (64 << 20);
         std::size_t free_b = 0, total_b = 0;
         SPH_CUDA_CHECK(cudaMemGetInfo(&free_b, &total_b));
@@ -163,6 +163,29 @@ public:
     void compute_forces() override {
         gpu::compute_forces(cfg_, inputs(), force_.data(), n_active_ptr(), n_, stream_);
     }
+    void build_neighbour_list(real skin) override {
+        const real reach = cfg_.params.support + skin;
+        if (list_count_.size() < n_) list_count_.allocate(n_);
+        for (int attempt = 0; attempt < 2; ++attempt) {
+            const std::size_t need = std::size_t(list_capacity_) * n_;
+            if (list_index_.size() < need) {
+                list_index_ = DeviceBuffer<std::uint32_t>();  // free first: the lists are the largest buffer
+                list_index_.allocate(need);
+            }
+            gpu::build_neighbour_lists(cfg_, inputs(), reach * reach, list_index_.data(), list_count_.data(), n_,
+                                       list_capacity_, n_active_ptr(), n_, stream_);
+            const std::uint32_t longest =
+                gpu::longest_list(list_count_.data(), n_, temp_.data(), temp_bytes_, counters32_.data(), stream_);
+            if (longest <= list_capacity_) return;
+            list_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
+        }
+    }
+    void compute_forces_listed() override {
+        const NeighbourList list{list_index_.data(), list_count_.data(), n_};
+        gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), n_active_ptr(), n_, stream_);
+    }
+    std::size_t neighbour_list_bytes() const override { return list_index_.bytes() + list_count_.bytes(); }
+
     void kick_drift(real half_dt, real dt) override {
         gpu::kick_drift(pos_.data(), velrho_.data(), cell_.data(), force_.data(), half_dt, dt, cfg_, n_active_ptr(),
                         n_, stream_);
@@ -196,7 +219,7 @@ public:
         return n_active_;
     }
     std::size_t bytes_allocated() const override {
-        return pos_.size() * bytes_per_particle + cell_start_.bytes() + temp_.bytes();
+        return pos_.size() * bytes_per_particle + cell_start_.bytes() + temp_.bytes() + neighbour_list_bytes();
     }
     PhaseClock& clock() override { return clock_; }
 
@@ -223,6 +246,8 @@ private:
     DeviceBuffer<unsigned char> temp_;
     DeviceBuffer<StepStats> stats_;
     DeviceBuffer<unsigned long long> counters_;
+    DeviceBuffer<std::uint32_t> list_index_, list_count_, counters32_{1};
+    std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
     std::size_t temp_bytes_ = 0;
     int key_bits_ = 64;

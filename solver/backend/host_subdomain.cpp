@@ -82,6 +82,52 @@ public:
         });
     }
 
+    void build_neighbour_list(real skin) override {
+        const ForceInputs in = inputs();
+        const real reach = cfg_.params.support + skin;
+        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        list_count_.assign(a_.size(), 0);
+        std::uint32_t longest = 0;
+        for (int attempt = 0; attempt < 2; ++attempt) {
+            list_index_.resize(std::size_t(list_capacity_) * a_.size());
+            dispatch_search(cfg_.search, [&](auto s) {
+                using Search = typename decltype(s)::type;
+#pragma omp parallel for reduction(max : longest)
+                for (std::ptrdiff_t i = 0; i < n; ++i) {
+                    const std::uint32_t c = build_particle_list<Search>(std::uint32_t(i), in, reach * reach,
+                                                                        list_index_.data(), std::uint32_t(a_.size()),
+                                                                        list_capacity_);
+                    list_count_[i] = c;
+                    longest = std::max(longest, c);
+                }
+            });
+            if (longest <= list_capacity_) return;
+            list_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
+        }
+    }
+
+    void compute_forces_listed() override {
+        const ForceInputs in = inputs();
+        const NeighbourList list{list_index_.data(), list_count_.data(), std::uint32_t(a_.size())};
+        const PhysicsParams p = cfg_.params;
+        real4* force = a_.force.data();
+        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        dispatch_kernel(cfg_.kernel, cfg_.diffusion, [&](auto k, auto diffusion) {
+            using Kernel = typename decltype(k)::type;
+            const Kernel kernel(p.h);
+#pragma omp parallel for schedule(static)
+            for (std::ptrdiff_t i = 0; i < n; ++i)
+                force[i] = a_.cell[i] < cfg_.grid.out_of_domain()
+                               ? particle_force_listed<Kernel, decltype(diffusion)::value>(std::uint32_t(i), in, list, p,
+                                                                                          kernel)
+                               : real4{0, 0, 0, 0};
+        });
+    }
+
+    std::size_t neighbour_list_bytes() const override {
+        return (list_index_.size() + list_count_.size()) * sizeof(std::uint32_t);
+    }
+
     void kick_drift(real half_dt, real dt) override {
         const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
 #pragma omp parallel for schedule(static)
@@ -133,7 +179,7 @@ public:
     std::size_t active_count() const override { return n_active_; }
     std::size_t bytes_allocated() const override {
         return a_.size() * (2 * sizeof(real4) + sizeof(real4) + 2 * sizeof(std::uint32_t) + 12) +
-               cell_start_.size() * sizeof(std::uint32_t);
+               cell_start_.size() * sizeof(std::uint32_t) + neighbour_list_bytes();
     }
     PhaseClock& clock() override { return clock_; }
 
@@ -153,7 +199,8 @@ private:
 
     SubdomainConfig cfg_;
     ParticleArrays a_;
-    std::vector<std::uint32_t> cell_start_, order_;
+    std::vector<std::uint32_t> cell_start_, order_, list_index_, list_count_;
+    std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;
     std::vector<unsigned char> scratch_;
     std::size_t n_active_ = 0;

@@ -51,6 +51,11 @@ public:
     virtual void sort_by_cell() = 0;
     // Phase forces: acceleration and density rate of every particle in the domain.
     virtual void compute_forces() = 0;
+    // Verlet lists: after a sort, store every neighbour within support + skin; the listed
+    // force loop then reuses the lists (no sort) until the Simulation decides to rebuild.
+    virtual void build_neighbour_list(real skin) = 0;
+    virtual void compute_forces_listed() = 0;
+    virtual std::size_t neighbour_list_bytes() const = 0;
     // Phase integrate: the first half kick and the drift, then the final half kick.
     virtual void kick_drift(real half_dt, real dt) = 0;
     virtual void kick(real half_dt) = 0;

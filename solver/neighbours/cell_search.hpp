@@ -48,6 +48,9 @@ struct CellSearch {
 struct SearchOptions {
     int cells_per_support = 1;  // Smaller Cell's n, 1 to 4
     bool merge = false;         // Cell Merging
+    bool verlet = false;        // stored neighbour lists, built with the cell search above
+    double skin = 0.1;          // Verlet skin as a fraction of the support radius
+    int rebuild_every = 0;      // > 0: rebuild every k steps; 0: when particles may have moved skin / 2
 };
 
 }  // namespace sph

@@ -31,17 +31,21 @@ void dispatch_search(const SearchOptions& s, F&& f) {
     throw std::invalid_argument("cells per support must be 1 to 4, got " + std::to_string(s.cells_per_support));
 }
 
-// f(kernel_tag, search_tag, diffusion) with diffusion a std::bool_constant.
+// f(kernel_tag, diffusion) with diffusion a std::bool_constant.
+template <class F>
+void dispatch_kernel(KernelType kernel, bool diffusion, F&& f) {
+    auto with_kernel = [&](auto k) {
+        if (diffusion) f(k, std::true_type{});
+        else f(k, std::false_type{});
+    };
+    if (kernel == KernelType::wendland) with_kernel(type_tag<WendlandC2>{});
+    else with_kernel(type_tag<CubicSpline>{});
+}
+
+// f(kernel_tag, search_tag, diffusion).
 template <class F>
 void dispatch_physics(KernelType kernel, bool diffusion, const SearchOptions& s, F&& f) {
-    dispatch_search(s, [&](auto search) {
-        auto with_kernel = [&](auto k) {
-            if (diffusion) f(k, search, std::true_type{});
-            else f(k, search, std::false_type{});
-        };
-        if (kernel == KernelType::wendland) with_kernel(type_tag<WendlandC2>{});
-        else with_kernel(type_tag<CubicSpline>{});
-    });
+    dispatch_search(s, [&](auto search) { dispatch_kernel(kernel, diffusion, [&](auto k, auto d) { f(k, search, d); }); });
 }
 
 }  // namespace sph

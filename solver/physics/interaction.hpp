@@ -19,48 +19,108 @@ struct ForceInputs {
     GridView grid;
 };
 
-// Returns (acceleration, d rho / dt) of particle i.
-template <class Kernel, class Search, bool Diffusion>
-SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p, const Kernel& kernel) {
-    const real4 pos_i = in.pos[i];
-    const real4 vr_i = in.velrho[i];
-    const bool fluid_i = !is_boundary(vr_i);
-    const real rho_i = density(vr_i);
-    const real3 off_i = xyz(pos_i);
-    const real3 v_i = xyz(vr_i);
-    const real cs = in.grid.cell_size;
-    const real diffusion_coef = Diffusion ? 2 * p.delta * p.h * p.c0 * p.mass : real(0);
-    const real visc_coef = p.alpha * p.h * p.c0;
-
+// The sums over one particle's neighbours. add() takes one candidate j and the separation
+// x_i - x_j; the search strategy (cell ranges or a stored list) only decides who is visited.
+template <class Kernel, bool Diffusion>
+struct PairSums {
+    const ForceInputs& in;
+    const PhysicsParams& p;
+    const Kernel& kernel;
+    real4 pos_i, vr_i;
+    bool fluid_i;
+    real rho_i, diffusion_coef, visc_coef;
     real3 acc{0, 0, 0};
     real drho = 0;
+
+    SPH_HD PairSums(std::uint32_t i, const ForceInputs& in_, const PhysicsParams& p_, const Kernel& k)
+        : in(in_), p(p_), kernel(k), pos_i(in_.pos[i]), vr_i(in_.velrho[i]), fluid_i(!is_boundary(vr_i)),
+          rho_i(density(vr_i)), diffusion_coef(Diffusion ? 2 * p_.delta * p_.h * p_.c0 * p_.mass : real(0)),
+          visc_coef(p_.alpha * p_.h * p_.c0) {}
+
+    SPH_HD void add(std::uint32_t j, const real3& rij, real r2) {
+        if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
+        const real4 vr_j = in.velrho[j];
+        const bool fluid_j = !is_boundary(vr_j);
+        if (!fluid_i && !fluid_j) return;  // boundary-boundary pairs do nothing
+        const real fac = kernel.grad_factor(sqrt_r(r2));
+        const real3 vij = xyz(vr_i) - xyz(vr_j);
+        const real vdotr = dot(vij, rij);
+        drho += p.mass * fac * vdotr;  // m (v_ij . r_ij) F, with grad W = r_ij F
+        const real rho_j = density(vr_j);
+        if (Diffusion && fluid_i && fluid_j)
+            drho += diffusion_coef * (rho_i - rho_j) / rho_j * r2 * fac / (r2 + p.eta2);
+        if (fluid_i) {
+            real pi_ij = 0;
+            if (vdotr < 0) pi_ij = -visc_coef * vdotr / ((r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
+            const real s = -p.mass * (pos_i.w + in.pos[j].w + pi_ij) * fac;
+            acc += s * rij;
+        }
+    }
+    SPH_HD real4 result() const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
+};
+
+// x_i - x_j from cell-relative offsets: (cell_i - cell_j) * cs + off_i - off_j, exact in the
+// cell part. (dx, dy, dz) = cell_j - cell_i.
+SPH_HD real3 separation(const real4& pi, const real4& pj, int dx, int dy, int dz, real cs) {
+    return make3(pi.x - pj.x - dx * cs, pi.y - pj.y - dy * cs, pi.z - pj.z - dz * cs);
+}
+
+// Returns (acceleration, d rho / dt) of particle i, visiting candidates cell by cell.
+template <class Kernel, class Search, bool Diffusion>
+SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p, const Kernel& kernel) {
+    PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
+    const real cs = in.grid.cell_size;
     Search::visit(in.grid, in.cell_start, in.cell, in.grid.decode(in.cell[i]),
                   [&](std::uint32_t j, int dx, int dy, int dz) {
-                      const real4 pos_j = in.pos[j];
-                      // x_i - x_j = (cell_i - cell_j) * cs + off_i - off_j, exact in the cell part.
-                      const real3 rij = make3(off_i.x - pos_j.x - dx * cs, off_i.y - pos_j.y - dy * cs,
-                                              off_i.z - pos_j.z - dz * cs);
-                      const real r2 = dot(rij, rij);
-                      if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
-                      const real4 vr_j = in.velrho[j];
-                      const bool fluid_j = !is_boundary(vr_j);
-                      if (!fluid_i && !fluid_j) return;  // boundary-boundary pairs do nothing
-                      const real fac = kernel.grad_factor(sqrt_r(r2));
-                      const real3 vij = v_i - xyz(vr_j);
-                      const real vdotr = dot(vij, rij);
-                      drho += p.mass * fac * vdotr;  // m (v_ij . r_ij) F, with grad W = r_ij F
-                      const real rho_j = density(vr_j);
-                      if (Diffusion && fluid_i && fluid_j)
-                          drho += diffusion_coef * (rho_i - rho_j) / rho_j * r2 * fac / (r2 + p.eta2);
-                      if (fluid_i) {
-                          real pi_ij = 0;
-                          if (vdotr < 0) pi_ij = -visc_coef * vdotr / ((r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
-                          const real s = -p.mass * (pos_i.w + pos_j.w + pi_ij) * fac;
-                          acc += s * rij;
-                      }
+                      const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
+                      sums.add(j, rij, dot(rij, rij));
                   });
-    if (fluid_i) acc += p.gravity;
-    return make4(acc, drho);
+    return sums.result();
+}
+
+// A stored neighbour list (Verlet list): column k of particle i at list[k * stride + i], so
+// that a warp reads one column coalesced.
+struct NeighbourList {
+    const std::uint32_t* index;
+    const std::uint32_t* count;
+    std::uint32_t stride;
+};
+
+// The same sums over a stored list. Particles keep their cell between rebuilds only up to
+// the skin, so each pair decodes both cells.
+template <class Kernel, bool Diffusion>
+SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const NeighbourList& list,
+                                   const PhysicsParams& p, const Kernel& kernel) {
+    PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
+    const real cs = in.grid.cell_size;
+    const int3v ci = in.grid.decode(in.cell[i]);
+    const std::uint32_t n = list.count[i];
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const std::uint32_t j = list.index[std::size_t(k) * list.stride + i];
+        const int3v cj = in.grid.decode(in.cell[j]);
+        const real3 rij = separation(sums.pos_i, in.pos[j], cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, cs);
+        sums.add(j, rij, dot(rij, rij));
+    }
+    return sums.result();
+}
+
+// Builds particle i's list: every candidate within support + skin, in visiting order.
+// Returns the true count; entries past `capacity` are not written (the caller grows and retries).
+template <class Search>
+SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in, real reach2, std::uint32_t* index,
+                                         std::uint32_t stride, std::uint32_t capacity) {
+    std::uint32_t n = 0;
+    const real4 pi = in.pos[i];
+    const real cs = in.grid.cell_size;
+    Search::visit(in.grid, in.cell_start, in.cell, in.grid.decode(in.cell[i]),
+                  [&](std::uint32_t j, int dx, int dy, int dz) {
+                      if (j == i) return;
+                      const real3 rij = separation(pi, in.pos[j], dx, dy, dz, cs);
+                      if (dot(rij, rij) >= reach2) return;
+                      if (n < capacity) index[std::size_t(n) * stride + i] = j;
+                      ++n;
+                  });
+    return n;
 }
 
 // Work counters of one particle's search (candidates visited, real neighbours, ranges visited).
