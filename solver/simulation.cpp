@@ -43,16 +43,10 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
     grid_ = make_grid(scene_.lo.data(), scene_.hi.data(), scene_.params.support, options_.search.cells_per_support);
     if (double(grid_.view.nx) * grid_.view.ny * grid_.view.nz > 4.0e9)
         throw InputError("the domain of scene '" + scene_.name + "' needs more than 4e9 cells; use fewer cells per support");
-    SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel,
-                        options_.diffusion && scene_.params.delta > 0, options_.search};
-    const std::size_t n = scene_.size();
-    n_total_ = n;
+    n_total_ = scene_.size();
     n_fluid_ = scene_.fluid_count();
-    if (options_.backend == BackendKind::cuda) subdomains_.push_back(make_cuda_subdomain(cfg, n, options_.device));
-    else subdomains_.push_back(make_host_subdomain(cfg, n));
-    nvtx_name_device(0, subdomains_.front()->device_name().c_str());
-    subdomains_.front()->upload(make_particle_arrays(scene_, grid_));
-    // Positions now live on the subdomain; keep the scene's metadata only.
+    make_subdomains(make_particle_arrays(scene_, grid_));
+    // Positions now live on the subdomains; keep the scene's metadata only.
     scene_.position = {};
     scene_.velocity = {};
     scene_.density = {};
@@ -63,13 +57,74 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
     limits_.max_density = real(2.0 * p.rho0);
 
     // Prime the loop: P / rho^2 for the initial density, then the forces of the initial state.
-    Subdomain& d = *subdomains_.front();
-    d.sort_by_cell();
-    d.kick_drift(0, 0);
-    if (options_.search.verlet) d.build_neighbour_list(verlet_skin());
-    options_.search.verlet ? d.compute_forces_listed() : d.compute_forces();
-    record_.stats = d.reduce_stats(0, limits_);
-    d.clock().collect();
+    for (auto& d : subdomains_) {
+        d->sort_by_cell();
+        d->kick_drift(0, 0);
+    }
+    if (slabs_) {
+        exchange_->refresh_ghosts(subdomains_, *slabs_);
+        exchanged_for_ = std::make_unique<SlabDecomposition>(*slabs_);
+    }
+    StepStats stats;
+    for (auto& d : subdomains_) {
+        if (options_.search.verlet) d->build_neighbour_list(verlet_skin());
+        options_.search.verlet ? d->compute_forces_listed() : d->compute_forces();
+        stats = merge_stats(stats, d->reduce_stats(0, limits_));
+        d->clock().collect();
+    }
+    record_.stats = stats;
+}
+
+void Simulation::make_subdomains(const ParticleArrays& all) {
+    const int n = options_.subdomains;
+    if (n < 1) throw InputError("the number of subdomains must be at least 1, got " + std::to_string(n));
+    const SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel, options_.diffusion && scene_.params.delta > 0,
+                              options_.search};
+    auto make = [&](int d, std::size_t capacity) -> std::unique_ptr<Subdomain> {
+        if (options_.backend == BackendKind::host) return make_host_subdomain(cfg, capacity);
+        int gpu = options_.device;
+        if (n > 1) gpu = options_.device_map.empty() ? d % std::max(1, cuda_device_count()) : options_.device_map[d];
+        return make_cuda_subdomain(cfg, capacity, gpu);
+    };
+    if (n == 1) {
+        subdomains_.push_back(make(0, all.size()));
+        subdomains_.front()->upload(all);
+        nvtx_name_device(0, subdomains_.front()->device_name().c_str());
+        return;
+    }
+    if (options_.search.verlet) throw InputError("Verlet lists run on one subdomain only; drop --verlet or use 1 device");
+    if (!options_.device_map.empty() && int(options_.device_map.size()) != n)
+        throw InputError("the device map names " + std::to_string(options_.device_map.size()) + " GPUs for " +
+                         std::to_string(n) + " subdomains");
+    // Split so that each slab starts with about the same number of particles.
+    const std::uint32_t slice_cells = std::uint32_t(grid_.view.ny) * std::uint32_t(grid_.view.nz);
+    std::vector<long long> per_slice(grid_.view.nx, 0);
+    for (std::uint32_t c : all.cell)
+        if (c < grid_.view.out_of_domain()) ++per_slice[c / slice_cells];
+    const int ghost = options_.search.cells_per_support;
+    slabs_ = std::make_unique<SlabDecomposition>(SlabDecomposition::balanced_by_particles(per_slice, n, ghost));
+    exchange_ = std::make_unique<SlabExchange>(grid_.view, ghost);
+    balancer_ = make_balancer(options_.balancer);
+    std::vector<ParticleArrays> parts(n);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const std::uint32_t c = all.cell[i];
+        const int d = c < grid_.view.out_of_domain() ? slabs_->owner_of(int(c / slice_cells)) : 0;
+        ParticleArrays& p = parts[d];
+        p.pos.push_back(all.pos[i]);
+        p.velrho.push_back(all.velrho[i]);
+        p.cell.push_back(c);
+        p.id.push_back(all.id[i]);
+    }
+    // Room for a slab that balancing grows, plus its ghosts.
+    const std::size_t capacity = all.size() + all.size() / 4 + 1024;
+    for (int d = 0; d < n; ++d) {
+        subdomains_.push_back(make(d, capacity));
+        subdomains_.back()->upload(parts[d]);
+        subdomains_.back()->set_owned_cells(exchange_->first_cell(slabs_->begin(d)),
+                                            exchange_->first_cell(slabs_->end(d)));
+        const std::string label = "subdomain " + std::to_string(d) + " on " + subdomains_.back()->device_name();
+        nvtx_name_device(d, label.c_str());
+    }
 }
 
 double Simulation::next_dt() const {
@@ -83,35 +138,43 @@ double Simulation::next_dt() const {
 }
 
 const StepRecord& Simulation::step() {
-    Subdomain& d = *subdomains_.front();
     const double dt = next_dt();
     const real half = real(0.5 * dt);
     const long n = record_.step + 1;
-    PhaseClock& clock = d.clock();
-    {
-        ScopedPhase ph(clock, Phase::integrate, n, 0);
-        d.kick_drift(half, real(dt));
+    const int count = int(subdomains_.size());
+    record_.slices_moved = 0;
+    record_.exchange = {};
+    for (int d = 0; d < count; ++d) {
+        ScopedPhase ph(subdomains_[d]->clock(), Phase::integrate, n, d);
+        subdomains_[d]->kick_drift(half, real(dt));
+    }
+    if (balancer_) {
+        ScopedPhase ph(host_clock_, Phase::balance, n, 0);
+        rebalance(n);
     }
     const bool verlet = options_.search.verlet;
     if (!verlet || verlet_list_expired(dt)) {
-        ScopedPhase ph(clock, Phase::neighbour_list, n, 0);
-        d.sort_by_cell();
-        if (verlet) {
-            d.build_neighbour_list(verlet_skin());
-            steps_since_build_ = 0;
-            moved_since_build_ = 0;
-            ++list_builds_;
+        for (int d = 0; d < count; ++d) {
+            ScopedPhase ph(subdomains_[d]->clock(), Phase::neighbour_list, n, d);
+            subdomains_[d]->sort_by_cell();
+            if (verlet) {
+                subdomains_[d]->build_neighbour_list(verlet_skin());
+                steps_since_build_ = 0;
+                moved_since_build_ = 0;
+                ++list_builds_;
+            }
         }
     }
     ++steps_since_build_;
-    {
-        ScopedPhase ph(clock, Phase::forces, n, 0);
-        verlet ? d.compute_forces_listed() : d.compute_forces();
+    if (slabs_) exchange_particles(n, host_clock_);
+    for (int d = 0; d < count; ++d) {
+        ScopedPhase ph(subdomains_[d]->clock(), Phase::forces, n, d);
+        verlet ? subdomains_[d]->compute_forces_listed() : subdomains_[d]->compute_forces();
     }
     StepStats stats;
-    {
-        ScopedPhase ph(clock, Phase::diagnostics, n, 0);
-        stats = d.reduce_stats(half, limits_);
+    for (int d = 0; d < count; ++d) {
+        ScopedPhase ph(subdomains_[d]->clock(), Phase::diagnostics, n, d);
+        stats = merge_stats(stats, subdomains_[d]->reduce_stats(half, limits_));
     }
     if (stats.bad_id != 0xffffffffu) {
         static const char* what[] = {"", "a non-finite acceleration or density rate", "a speed above the limit",
@@ -124,17 +187,61 @@ const StepRecord& Simulation::step() {
         last.step = n;
         throw BlowUpError(m.str(), std::move(last));
     }
-    {
-        ScopedPhase ph(clock, Phase::integrate, n, 0);
-        d.kick(half);
+    for (int d = 0; d < count; ++d) {
+        ScopedPhase ph(subdomains_[d]->clock(), Phase::integrate, n, d);
+        subdomains_[d]->kick(half);
     }
-    record_.phase_ms = clock.collect();
+    // The step's wall time per compute phase is the slowest subdomain's (paper: real wall time).
+    record_.subdomain_ms.assign(count, PhaseTimes{});
+    record_.subdomain_particles.assign(count, 0);
+    record_.phase_ms.fill(0);
+    for (int d = 0; d < count; ++d) {
+        record_.subdomain_ms[d] = subdomains_[d]->clock().collect();
+        record_.subdomain_particles[d] = count > 1 ? subdomains_[d]->active_count() : stats.fluid_count;
+        for (std::size_t p = 0; p < phase_count; ++p)
+            record_.phase_ms[p] = std::max(record_.phase_ms[p], record_.subdomain_ms[d][p]);
+    }
+    const PhaseTimes host = host_clock_.collect();
+    for (Phase p : {Phase::exchange, Phase::migrate, Phase::balance}) record_.phase_ms[std::size_t(p)] += host[std::size_t(p)];
     record_.step = n;
     record_.time += dt;
     record_.dt = dt;
     record_.stats = stats;
     record_.out_of_domain = n_fluid_ - stats.fluid_count;
     return record_;
+}
+
+// Migration (particles that left their slab, slices the balancer moved) and the ghost
+// refresh; both timed on the host, since they are host-staged transfers between devices.
+void Simulation::exchange_particles(long step, PhaseClock& host_clock) {
+    {
+        ScopedPhase ph(host_clock, Phase::migrate, step, 0);
+        const ExchangeCounters c = exchange_->migrate(subdomains_, *exchanged_for_, *slabs_);
+        *exchanged_for_ = *slabs_;
+        for (auto& d : subdomains_) d->sort_by_cell();
+        record_.exchange.particles_migrated += c.particles_migrated;
+        record_.exchange.bytes += c.bytes;
+    }
+    ScopedPhase ph(host_clock, Phase::exchange, step, 0);
+    const ExchangeCounters c = exchange_->refresh_ghosts(subdomains_, *slabs_);
+    record_.exchange.ghosts_sent += c.ghosts_sent;
+    record_.exchange.bytes += c.bytes;
+}
+
+// Moves slab boundaries from the previous step's update times (paper section 5.2).
+void Simulation::rebalance(long step) {
+    if (record_.subdomain_ms.size() != subdomains_.size()) return;  // no timed step yet
+    std::vector<double> times;
+    for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
+    std::vector<long long> per_slice(grid_.view.nx, 0);
+    for (int d = 0; d < int(subdomains_.size()); ++d) {
+        std::vector<std::uint32_t> cells;
+        for (int x = slabs_->begin(d); x <= slabs_->end(d); ++x) cells.push_back(exchange_->first_cell(x));
+        const std::vector<std::uint32_t> starts = subdomains_[d]->cell_starts(cells);
+        for (int x = slabs_->begin(d); x < slabs_->end(d); ++x)
+            per_slice[x] = starts[x - slabs_->begin(d) + 1] - starts[x - slabs_->begin(d)];
+    }
+    record_.slices_moved = slabs_->apply_moves(balancer_->decide(*slabs_, BalanceInput{times, per_slice, step}));
 }
 
 real Simulation::verlet_skin() const { return real(options_.search.skin * scene_.params.support); }
@@ -150,7 +257,27 @@ bool Simulation::verlet_list_expired(double dt) {
     return moved_since_build_ > 0.5 * verlet_skin();
 }
 
-WorkCounters Simulation::count_work() { return subdomains_.front()->count_work(); }
+WorkCounters Simulation::count_work() {
+    WorkCounters total;
+    for (auto& d : subdomains_) {
+        const WorkCounters w = d->count_work();
+        total.candidates += w.candidates;
+        total.neighbours += w.neighbours;
+        total.ranges += w.ranges;
+    }
+    return total;
+}
+
+std::string Simulation::device_name() const {
+    const std::string first = subdomains_.front()->device_name();
+    for (const auto& d : subdomains_)
+        if (d->device_name() != first) {
+            std::string all;
+            for (const auto& e : subdomains_) all += (all.empty() ? "" : "; ") + e->device_name();
+            return all;
+        }
+    return subdomains_.size() == 1 ? first : std::to_string(subdomains_.size()) + " subdomains on " + first;
+}
 
 std::size_t Simulation::neighbour_list_bytes() const {
     std::size_t b = 0;
@@ -164,37 +291,36 @@ std::size_t Simulation::bytes_allocated() const {
     return b;
 }
 
-SnapshotData Simulation::to_snapshot(const ParticleArrays& a) const {
+SnapshotData Simulation::to_snapshot(const std::vector<ParticleArrays>& parts) const {
     SnapshotData s;
     s.time = record_.time;
     s.step = record_.step;
-    const std::size_t n = a.size();
-    s.position.resize(3 * n);
-    s.velocity.resize(3 * n);
-    s.density.resize(n);
-    s.pressure.resize(n);
-    s.type.resize(n);
-    s.id.resize(n);
     const double cs = grid_.view.cell_size;
-    for (std::size_t i = 0; i < n; ++i) {
-        const bool out = a.cell[i] >= grid_.view.out_of_domain();
-        const int3v c = out ? int3v{0, 0, 0} : grid_.view.decode(a.cell[i]);
-        const int cc[3] = {c.x, c.y, c.z};
-        const real off[3] = {a.pos[i].x, a.pos[i].y, a.pos[i].z};
-        for (int k = 0; k < 3; ++k)
-            s.position[3 * i + k] = out ? std::nan("") : grid_.origin[k] + cc[k] * cs + double(off[k]);
-        s.velocity[3 * i + 0] = float(a.velrho[i].x);
-        s.velocity[3 * i + 1] = float(a.velrho[i].y);
-        s.velocity[3 * i + 2] = float(a.velrho[i].z);
-        const real rho = density(a.velrho[i]);
-        s.density[i] = float(rho);
-        s.pressure[i] = float(tait_pressure(scene_.params, rho));
-        s.type[i] = is_boundary(a.velrho[i]) ? 1 : 0;
-        s.id[i] = a.id[i];
-    }
+    for (const ParticleArrays& a : parts)
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            if (is_ghost_id(a.id[i])) continue;  // a copy; its owner writes it
+            const bool out = a.cell[i] >= grid_.view.out_of_domain();
+            const int3v c = out ? int3v{0, 0, 0} : grid_.view.decode(a.cell[i]);
+            const int cc[3] = {c.x, c.y, c.z};
+            const real off[3] = {a.pos[i].x, a.pos[i].y, a.pos[i].z};
+            for (int k = 0; k < 3; ++k)
+                s.position.push_back(out ? std::nan("") : grid_.origin[k] + cc[k] * cs + double(off[k]));
+            s.velocity.push_back(float(a.velrho[i].x));
+            s.velocity.push_back(float(a.velrho[i].y));
+            s.velocity.push_back(float(a.velrho[i].z));
+            const real rho = density(a.velrho[i]);
+            s.density.push_back(float(rho));
+            s.pressure.push_back(float(tait_pressure(scene_.params, rho)));
+            s.type.push_back(is_boundary(a.velrho[i]) ? 1 : 0);
+            s.id.push_back(a.id[i]);
+        }
     return s;
 }
 
-SnapshotData Simulation::snapshot() { return to_snapshot(subdomains_.front()->download()); }
+SnapshotData Simulation::snapshot() {
+    std::vector<ParticleArrays> parts;
+    for (auto& d : subdomains_) parts.push_back(d->download());
+    return to_snapshot(parts);
+}
 
 }  // namespace sph

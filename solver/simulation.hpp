@@ -1,12 +1,18 @@
 #pragma once
-// The time loop over a set of subdomains (one for now): kick-drift, sort, forces,
-// diagnostics, kick; with per-phase timing, NVTX ranges and the blow-up check.
+// The time loop over a set of subdomains: kick-drift, (balance), sort, (migrate, ghosts),
+// forces, diagnostics, kick; with per-phase timing, NVTX ranges and the blow-up check.
+// One subdomain is a plain single-device run; N subdomains split space into X slabs
+// (paper section 5), on N GPUs, on one GPU, or on the host.
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "backend/steady_phase_clock.hpp"
 #include "backend/subdomain.hpp"
 #include "core/error.hpp"
 #include "io/snapshot_writer.hpp"
+#include "multi/load_balancer.hpp"
+#include "multi/slab_exchange.hpp"
 #include "neighbours/grid.hpp"
 #include "scenes/scene.hpp"
 
@@ -14,7 +20,10 @@ namespace sph {
 
 struct SolverOptions {
     BackendKind backend = BackendKind::host;
-    int device = 0;
+    int device = 0;          // GPU of a one-subdomain run
+    int subdomains = 1;      // X slabs (logical devices)
+    std::vector<int> device_map;  // GPU of each subdomain; empty: subdomain d on GPU d mod count
+    std::string balancer = "none";  // none, simple, every:K, threshold
     SearchOptions search;
     double cfl = 0;       // 0: the scene's
     double fixed_dt = 0;  // > 0: a fixed step (benchmarks), no CFL
@@ -27,8 +36,12 @@ struct StepRecord {
     double time = 0;    // simulated time after it
     double dt = 0;
     StepStats stats;
-    PhaseTimes phase_ms{};
+    PhaseTimes phase_ms{};  // compute phases: the slowest subdomain; exchange phases: host wall time
+    std::vector<PhaseTimes> subdomain_ms;  // per subdomain
+    std::vector<std::size_t> subdomain_particles;  // owned particles per subdomain
     std::size_t out_of_domain = 0;
+    int slices_moved = 0;
+    ExchangeCounters exchange;
 };
 
 // Thrown when the state blows up; last_good holds the state before the failing kick.
@@ -42,30 +55,40 @@ public:
     Simulation(const Scene& scene, const SolverOptions& options);
 
     const StepRecord& step();
-    SnapshotData snapshot();  // absolute positions, for HDF5
+    SnapshotData snapshot();  // absolute positions of owned particles, for HDF5
     WorkCounters count_work();
 
     const Scene& scene() const { return scene_; }
     const Grid& grid() const { return grid_; }
     long steps_taken() const { return record_.step; }
     double time() const { return record_.time; }
-    std::string device_name() const { return subdomains_.front()->device_name(); }
+    std::string device_name() const;
     std::size_t bytes_allocated() const;
     std::size_t particle_count() const { return n_total_; }
     long neighbour_list_builds() const { return list_builds_; }
     std::size_t neighbour_list_bytes() const;
     std::size_t fluid_count() const { return n_fluid_; }
+    int subdomain_count() const { return int(subdomains_.size()); }
+    const SlabDecomposition* decomposition() const { return slabs_.get(); }
 
 private:
     double next_dt() const;
     real verlet_skin() const;
     bool verlet_list_expired(double dt);
-    SnapshotData to_snapshot(const ParticleArrays& a) const;
+    void make_subdomains(const ParticleArrays& all);
+    void exchange_particles(long step, PhaseClock& host_clock);
+    void rebalance(long step);
+    SnapshotData to_snapshot(const std::vector<ParticleArrays>& parts) const;
 
     Scene scene_;  // keeps params and metadata; positions are released after upload
     SolverOptions options_;
     Grid grid_;
     std::vector<std::unique_ptr<Subdomain>> subdomains_;
+    std::unique_ptr<SlabDecomposition> slabs_;
+    std::unique_ptr<SlabDecomposition> exchanged_for_;  // the slabs the particles were last exchanged for
+    std::unique_ptr<SlabExchange> exchange_;
+    std::unique_ptr<LoadBalancer> balancer_;
+    SteadyPhaseClock host_clock_;
     StatsLimits limits_;
     StepRecord record_;
     std::size_t n_total_ = 0, n_fluid_ = 0;

@@ -7,8 +7,14 @@
 
 namespace sph::gpu {
 
-// n_active points at the device copy of cell_start[cell_count]: kernels launched over all
-// n particles skip those past it (they left the domain) without a host round trip.
+// The particles a kernel works on, as device pointers into cell_start: [*begin, *end). Kernels
+// are launched over all n particles and skip the rest (particles that left the domain, ghosts
+// of other subdomains) without a host round trip.
+struct ActiveRange {
+    const std::uint32_t* begin;
+    const std::uint32_t* end;
+};
+
 void make_sort_keys(const std::uint32_t* cell, const std::uint32_t* id, std::uint64_t* keys, std::uint32_t* order,
                     std::uint32_t n, cudaStream_t s);
 void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, const real4* pos_in, const real4* velrho_in,
@@ -16,28 +22,28 @@ void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, const 
                    cudaStream_t s);
 void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::uint32_t cell_count,
                       std::uint32_t* cell_start, cudaStream_t s);
-void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, const std::uint32_t* n_active,
+void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s);
 // Writes each particle's list and count; returns nothing (the caller reduces the counts).
 void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
                            std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
-                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s);
+                           ActiveRange range, std::uint32_t n, cudaStream_t s);
 // The longest list, on the host (synchronises the stream).
 std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* temp, std::size_t temp_bytes,
                            std::uint32_t* out, cudaStream_t s);
 std::size_t longest_list_temp_bytes(std::uint32_t n);
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
-                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s);
+                           ActiveRange range, std::uint32_t n, cudaStream_t s);
 void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
-                const SubdomainConfig& cfg, const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s);
-void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, const std::uint32_t* n_active,
+                const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s);
+void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, ActiveRange range,
           std::uint32_t n, cudaStream_t s);
 // Bytes of temporary storage reduce_stats needs for n particles.
 std::size_t reduce_stats_temp_bytes(std::uint32_t n);
-void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, const std::uint32_t* n_active,
+void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, ActiveRange range,
                   real half_dt, const PhysicsParams& p, const StatsLimits& lim, std::uint32_t n, void* temp,
                   std::size_t temp_bytes, StepStats* out, cudaStream_t s);
-void count_work(const SubdomainConfig& cfg, const ForceInputs& in, const std::uint32_t* n_active, std::uint32_t n,
+void count_work(const SubdomainConfig& cfg, const ForceInputs& in, ActiveRange range, std::uint32_t n,
                 unsigned long long* counters3, cudaStream_t s);
 
 }  // namespace sph::gpu

@@ -41,9 +41,9 @@ __global__ void gather_sorted_kernel(const std::uint64_t* keys, const std::uint3
 
 template <class Kernel, class Search, bool Diffusion>
 __global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force,
-                                                            const std::uint32_t* n_active) {
-    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= *n_active) return;
+                                                            ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *range.end) return;
     const Kernel kernel(p.h);
     force[i] = particle_force<Kernel, Search, Diffusion>(i, in, p, kernel);
 }
@@ -51,18 +51,18 @@ __global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, Phys
 template <class Search>
 __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in, real reach2, std::uint32_t* index,
                                                                  std::uint32_t* count, std::uint32_t stride,
-                                                                 std::uint32_t capacity, const std::uint32_t* n_active) {
-    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= *n_active) return;
+                                                                 std::uint32_t capacity, ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *range.end) return;
     count[i] = build_particle_list<Search>(i, in, reach2, index, stride, capacity);
 }
 
 template <class Kernel, bool Diffusion>
 __global__ void __launch_bounds__(block_size) forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p,
                                                                    real4* __restrict__ force,
-                                                                   const std::uint32_t* n_active) {
-    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= *n_active) return;
+                                                                   ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *range.end) return;
     if (in.cell[i] >= in.grid.out_of_domain()) {  // left the domain since the last rebuild
         force[i] = real4{0, 0, 0, 0};
         return;
@@ -72,27 +72,27 @@ __global__ void __launch_bounds__(block_size) forces_listed_kernel(ForceInputs i
 }
 
 __global__ void kick_drift_kernel(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt,
-                                  real dt, GridView g, PhysicsParams p, const std::uint32_t* n_active) {
-    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= *n_active) return;
+                                  real dt, GridView g, PhysicsParams p, ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *range.end) return;
     particle_kick_drift(i, pos, velrho, cell, force, half_dt, dt, g, p);
 }
 
 __global__ void kick_kernel(real4* velrho, const real4* force, real half_dt, PhysicsParams p,
-                            const std::uint32_t* n_active) {
-    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= *n_active) return;
+                            ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *range.end) return;
     particle_kick(i, velrho, force, half_dt, p);
 }
 
 template <class Search>
-__global__ void count_work_kernel(ForceInputs in, PhysicsParams p, const std::uint32_t* n_active,
+__global__ void count_work_kernel(ForceInputs in, PhysicsParams p, ActiveRange range,
                                   unsigned long long* counters) {
     using Reduce = cub::BlockReduce<unsigned long long, block_size>;
     __shared__ typename Reduce::TempStorage tmp[3];
-    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     SearchWork w;
-    if (i < *n_active) w = particle_search_work<Search>(i, in, p);
+    if (i < *range.end) w = particle_search_work<Search>(i, in, p);
     const auto c = Reduce(tmp[0]).Sum(w.candidates);
     const auto nb = Reduce(tmp[1]).Sum(w.neighbours);
     const auto r = Reduce(tmp[2]).Sum(w.ranges);
@@ -108,12 +108,12 @@ struct StatsOfParticle {
     const real4* velrho;
     const real4* force;
     const std::uint32_t* id;
-    const std::uint32_t* n_active;
+    ActiveRange range;
     real half_dt;
     PhysicsParams p;
     StatsLimits lim;
     __device__ StepStats operator()(std::uint32_t i) const {
-        if (i >= *n_active) return StepStats{};
+        if (i < *range.begin || i >= *range.end) return StepStats{};
         return particle_stats(i, velrho, force, id, half_dt, p, lim);
     }
 };
@@ -152,27 +152,27 @@ void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::ui
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, const std::uint32_t* n_active,
+void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
     dispatch_physics(cfg.kernel, cfg.diffusion, cfg.search, [&](auto k, auto srch, auto diffusion) {
         using Kernel = typename decltype(k)::type;
         using Search = typename decltype(srch)::type;
         forces_kernel<Kernel, Search, decltype(diffusion)::value>
-            <<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, n_active);
+            <<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }
 
 void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
                            std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
-                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s) {
+                           ActiveRange range, std::uint32_t n, cudaStream_t s) {
     SPH_CUDA_CHECK(cudaMemsetAsync(count, 0, std::size_t(n) * sizeof(std::uint32_t), s));
     if (n == 0) return;
     dispatch_search(cfg.search, [&](auto srch) {
         using Search = typename decltype(srch)::type;
         build_lists_kernel<Search><<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity,
-                                                                        n_active);
+                                                                        range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }
@@ -194,28 +194,28 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
 }
 
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
-                           const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s) {
+                           ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
     dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
         using Kernel = typename decltype(k)::type;
         forces_listed_kernel<Kernel, decltype(diffusion)::value>
-            <<<blocks_for(n), block_size, 0, s>>>(in, list, cfg.params, force, n_active);
+            <<<blocks_for(n), block_size, 0, s>>>(in, list, cfg.params, force, range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }
 
 void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
-                const SubdomainConfig& cfg, const std::uint32_t* n_active, std::uint32_t n, cudaStream_t s) {
+                const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
     kick_drift_kernel<<<blocks_for(n), block_size, 0, s>>>(pos, velrho, cell, force, half_dt, dt, cfg.grid,
-                                                            cfg.params, n_active);
+                                                            cfg.params, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, const std::uint32_t* n_active,
+void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, ActiveRange range,
           std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    kick_kernel<<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, p, n_active);
+    kick_kernel<<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, p, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 
@@ -226,20 +226,20 @@ std::size_t reduce_stats_temp_bytes(std::uint32_t n) {
     return bytes;
 }
 
-void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, const std::uint32_t* n_active,
+void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, ActiveRange range,
                   real half_dt, const PhysicsParams& p, const StatsLimits& lim, std::uint32_t n, void* temp,
                   std::size_t temp_bytes, StepStats* out, cudaStream_t s) {
-    const StatsOfParticle op{velrho, force, id, n_active, half_dt, p, lim};
+    const StatsOfParticle op{velrho, force, id, range, half_dt, p, lim};
     SPH_CUDA_CHECK(cub::DeviceReduce::Reduce(temp, temp_bytes, stats_iterator(op), out, n, MergeStats{}, StepStats{}, s));
 }
 
-void count_work(const SubdomainConfig& cfg, const ForceInputs& in, const std::uint32_t* n_active, std::uint32_t n,
+void count_work(const SubdomainConfig& cfg, const ForceInputs& in, ActiveRange range, std::uint32_t n,
                 unsigned long long* counters3, cudaStream_t s) {
     SPH_CUDA_CHECK(cudaMemsetAsync(counters3, 0, 3 * sizeof(unsigned long long), s));
     if (n == 0) return;
     dispatch_search(cfg.search, [&](auto srch) {
         using Search = typename decltype(srch)::type;
-        count_work_kernel<Search><<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, n_active, counters3);
+        count_work_kernel<Search><<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, range, counters3);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

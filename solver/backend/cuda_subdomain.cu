@@ -2,6 +2,7 @@
 // Kernels are reached only through the driver functions of cuda_drivers.cuh.
 #include <cub/device/device_radix_sort.cuh>
 
+#include <algorithm>
 #include <cstdio>
 #include <vector>
 
@@ -105,6 +106,7 @@ public:
         int bits = 1;
         while ((std::uint64_t(1) << bits) <= ncells) ++bits;
         key_bits_ = 32 + bits;
+        owned_[1] = ncells;
     }
     ~CudaSubdomain() override {
         cudaFreeHost(host_stats_);
@@ -125,6 +127,7 @@ public:
         else SPH_CUDA_CHECK(cudaMemsetAsync(force_.data(), 0, force_.bytes(), stream_));
         // Until the first sort every particle counts as active.
         const std::uint32_t ncells = cfg_.grid.cell_count();
+        SPH_CUDA_CHECK(cudaMemsetAsync(cell_start_.data(), 0, cell_start_.bytes(), stream_));
         SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + ncells, &n_, sizeof n_, cudaMemcpyHostToDevice, stream_));
         SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
         n_active_ = n_;
@@ -146,6 +149,90 @@ public:
         return p;
     }
 
+    void set_owned_cells(std::uint32_t begin, std::uint32_t end) override {
+        const std::uint32_t ncells = cfg_.grid.cell_count();
+        owned_[0] = std::min(begin, ncells);
+        owned_[1] = std::min(end, ncells);
+        active_stale_ = true;
+    }
+    ParticleArrays copy_cells(std::uint32_t begin, std::uint32_t end) override {
+        const auto r = cell_starts({begin, end});
+        const std::uint32_t lo = r[0], m = r[1] - r[0];
+        ParticleArrays p;
+        p.pos.resize(m);
+        p.velrho.resize(m);
+        p.cell.resize(m);
+        p.id.resize(m);
+        if (m > 0) {
+            SPH_CUDA_CHECK(cudaMemcpyAsync(p.pos.data(), pos_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
+            SPH_CUDA_CHECK(cudaMemcpyAsync(p.velrho.data(), velrho_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
+            SPH_CUDA_CHECK(cudaMemcpyAsync(p.cell.data(), cell_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
+            SPH_CUDA_CHECK(cudaMemcpyAsync(p.id.data(), id_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
+            SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        }
+        return p;
+    }
+    void keep_only_cells(std::uint32_t begin, std::uint32_t end) override {
+        const auto r = cell_starts({begin, end, cfg_.grid.cell_count()});
+        const std::uint32_t lo = r[0], kept = r[1] - r[0], out_lo = r[2], out_n = n_ - r[2];
+        // Two ranges into the spare buffers, then swap: the ranges may overlap their targets.
+        auto move = [&](auto& buf, auto& spare) {
+            using T = std::decay_t<decltype(*buf.data())>;
+            if (kept) SPH_CUDA_CHECK(cudaMemcpyAsync(spare.data(), buf.data() + lo, kept * sizeof(T), cudaMemcpyDeviceToDevice, stream_));
+            if (out_n) SPH_CUDA_CHECK(cudaMemcpyAsync(spare.data() + kept, buf.data() + out_lo, out_n * sizeof(T), cudaMemcpyDeviceToDevice, stream_));
+            buf.swap(spare);
+        };
+        move(pos_, pos_alt_);
+        move(velrho_, velrho_alt_);
+        // cell and id have no spare of their own: the sort's key buffers serve (8 bytes each).
+        auto* cell_spare = reinterpret_cast<std::uint32_t*>(keys_alt_.data());
+        auto* id_spare = cell_spare + pos_.size();
+        if (kept) {
+            SPH_CUDA_CHECK(cudaMemcpyAsync(cell_spare, cell_.data() + lo, kept * 4, cudaMemcpyDeviceToDevice, stream_));
+            SPH_CUDA_CHECK(cudaMemcpyAsync(id_spare, id_.data() + lo, kept * 4, cudaMemcpyDeviceToDevice, stream_));
+        }
+        if (out_n) {
+            SPH_CUDA_CHECK(cudaMemcpyAsync(cell_spare + kept, cell_.data() + out_lo, out_n * 4, cudaMemcpyDeviceToDevice, stream_));
+            SPH_CUDA_CHECK(cudaMemcpyAsync(id_spare + kept, id_.data() + out_lo, out_n * 4, cudaMemcpyDeviceToDevice, stream_));
+        }
+        n_ = kept + out_n;
+        if (n_) {
+            SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data(), cell_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
+            SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data(), id_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
+        }
+        active_stale_ = true;
+    }
+    void append(const ParticleArrays& p) override {
+        const std::uint32_t m = std::uint32_t(p.size());
+        if (n_ + m > pos_.size())
+            throw RunError("subdomain on " + name_ + " would hold " + std::to_string(n_ + m) +
+                           " particles, more than the " + std::to_string(pos_.size()) + " it was sized for");
+        if (m == 0) return;
+        SPH_CUDA_CHECK(cudaMemcpyAsync(pos_.data() + n_, p.pos.data(), m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(velrho_.data() + n_, p.velrho.data(), m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data() + n_, p.cell.data(), m * 4, cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data() + n_, p.id.data(), m * 4, cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the host arrays may go away
+        n_ += m;
+    }
+    std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) override {
+        std::vector<std::uint32_t> out(cells.size());
+        // Slice boundaries are evenly spaced: one strided copy instead of one copy per value.
+        const bool even = cells.size() > 2 && std::adjacent_find(cells.begin() + 1, cells.end(), [&](auto a, auto b) {
+                                                   return b - a != cells[1] - cells[0];
+                                               }) == cells.end() && cells[1] > cells[0];
+        if (even)
+            SPH_CUDA_CHECK(cudaMemcpy2DAsync(out.data(), 4, cell_start_.data() + cells[0],
+                                             std::size_t(cells[1] - cells[0]) * 4, 4, cells.size(),
+                                             cudaMemcpyDeviceToHost, stream_));
+        else
+            for (std::size_t k = 0; k < cells.size(); ++k)
+                SPH_CUDA_CHECK(cudaMemcpyAsync(&out[k], cell_start_.data() + cells[k], 4, cudaMemcpyDeviceToHost, stream_));
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        return out;
+    }
+    std::size_t size() const override { return n_; }
+
     void sort_by_cell() override {
         gpu::make_sort_keys(cell_.data(), id_.data(), keys_.data(), order_.data(), n_, stream_);
         cub::DoubleBuffer<std::uint64_t> kb(keys_.data(), keys_alt_.data());
@@ -161,7 +248,7 @@ public:
     }
 
     void compute_forces() override {
-        gpu::compute_forces(cfg_, inputs(), force_.data(), n_active_ptr(), n_, stream_);
+        gpu::compute_forces(cfg_, inputs(), force_.data(), active_range(), n_, stream_);
     }
     void build_neighbour_list(real skin) override {
         const real reach = cfg_.params.support + skin;
@@ -173,7 +260,7 @@ public:
                 list_index_.allocate(need);
             }
             gpu::build_neighbour_lists(cfg_, inputs(), reach * reach, list_index_.data(), list_count_.data(), n_,
-                                       list_capacity_, n_active_ptr(), n_, stream_);
+                                       list_capacity_, active_range(), n_, stream_);
             const std::uint32_t longest =
                 gpu::longest_list(list_count_.data(), n_, temp_.data(), temp_bytes_, counters32_.data(), stream_);
             if (longest <= list_capacity_) return;
@@ -182,20 +269,20 @@ public:
     }
     void compute_forces_listed() override {
         const NeighbourList list{list_index_.data(), list_count_.data(), n_};
-        gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), n_active_ptr(), n_, stream_);
+        gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), active_range(), n_, stream_);
     }
     std::size_t neighbour_list_bytes() const override { return list_index_.bytes() + list_count_.bytes(); }
 
     void kick_drift(real half_dt, real dt) override {
-        gpu::kick_drift(pos_.data(), velrho_.data(), cell_.data(), force_.data(), half_dt, dt, cfg_, n_active_ptr(),
+        gpu::kick_drift(pos_.data(), velrho_.data(), cell_.data(), force_.data(), half_dt, dt, cfg_, active_range(),
                         n_, stream_);
     }
     void kick(real half_dt) override {
-        gpu::kick(velrho_.data(), force_.data(), half_dt, cfg_.params, n_active_ptr(), n_, stream_);
+        gpu::kick(velrho_.data(), force_.data(), half_dt, cfg_.params, active_range(), n_, stream_);
     }
 
     StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
-        gpu::reduce_stats(velrho_.data(), force_.data(), id_.data(), n_active_ptr(), half_dt, cfg_.params, limits, n_,
+        gpu::reduce_stats(velrho_.data(), force_.data(), id_.data(), active_range(), half_dt, cfg_.params, limits, n_,
                           temp_.data(), temp_bytes_, stats_.data(), stream_);
         stats_.download(host_stats_, 1, stream_);
         SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
@@ -203,7 +290,7 @@ public:
     }
 
     WorkCounters count_work() override {
-        gpu::count_work(cfg_, inputs(), n_active_ptr(), n_, counters_.data(), stream_);
+        gpu::count_work(cfg_, inputs(), active_range(), n_, counters_.data(), stream_);
         unsigned long long c[3];
         counters_.download(c, 3, stream_);
         SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
@@ -212,8 +299,11 @@ public:
 
     std::size_t active_count() const override {
         if (active_stale_) {
-            SPH_CUDA_CHECK(cudaMemcpyAsync(&n_active_, n_active_ptr(), sizeof n_active_, cudaMemcpyDeviceToHost, stream_));
+            std::uint32_t r[2];
+            SPH_CUDA_CHECK(cudaMemcpyAsync(&r[0], cell_start_.data() + owned_[0], 4, cudaMemcpyDeviceToHost, stream_));
+            SPH_CUDA_CHECK(cudaMemcpyAsync(&r[1], cell_start_.data() + owned_[1], 4, cudaMemcpyDeviceToHost, stream_));
             SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+            n_active_ = r[1] - r[0];
             active_stale_ = false;
         }
         return n_active_;
@@ -227,7 +317,7 @@ private:
     ForceInputs inputs() const {
         return {pos_.data(), velrho_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
     }
-    const std::uint32_t* n_active_ptr() const { return cell_start_.data() + cfg_.grid.cell_count(); }
+    gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     static cudaStream_t create_stream(int device) {
         SPH_CUDA_CHECK(cudaSetDevice(device));
         cudaStream_t s = nullptr;
@@ -253,6 +343,7 @@ private:
     int key_bits_ = 64;
     std::uint32_t n_ = 0;
     mutable std::uint32_t n_active_ = 0;
+    std::uint32_t owned_[2] = {0, 0};
     mutable bool active_stale_ = false;
 };
 
@@ -266,6 +357,11 @@ std::unique_ptr<Subdomain> make_cuda_subdomain(const SubdomainConfig& cfg, std::
         throw InputError("GPU " + std::to_string(device) + " does not exist: this machine has " +
                          std::to_string(count) + " GPU(s)");
     return std::make_unique<CudaSubdomain>(cfg, capacity, device);
+}
+
+int cuda_device_count() {
+    int count = 0;
+    return cudaGetDeviceCount(&count) == cudaSuccess ? count : 0;
 }
 
 bool cuda_backend_available() {

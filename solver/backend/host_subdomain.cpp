@@ -1,33 +1,15 @@
 // The host backend: the same per-particle functions as the CUDA kernels, run by OpenMP loops.
 // CI has no GPU, so this is how every algorithm is tested.
 #include <algorithm>
-#include <chrono>
 #include <numeric>
 
+#include "backend/steady_phase_clock.hpp"
 #include "backend/subdomain.hpp"
 #include "physics/dispatch.hpp"
 #include "physics/integration.hpp"
 
 namespace sph {
 namespace {
-
-class SteadyPhaseClock final : public PhaseClock {
-public:
-    void begin(Phase p) override { start_[std::size_t(p)] = std::chrono::steady_clock::now(); }
-    void end(Phase p) override {
-        const auto dt = std::chrono::steady_clock::now() - start_[std::size_t(p)];
-        times_[std::size_t(p)] += std::chrono::duration<double, std::milli>(dt).count();
-    }
-    PhaseTimes collect() override {
-        PhaseTimes t = times_;
-        times_.fill(0);
-        return t;
-    }
-
-private:
-    std::array<std::chrono::steady_clock::time_point, phase_count> start_{};
-    PhaseTimes times_{};
-};
 
 class HostSubdomain final : public Subdomain {
 public:
@@ -41,8 +23,53 @@ public:
         a_.force.assign(p.size(), real4{0, 0, 0, 0});
         if (!p.force.empty()) a_.force = p.force;
         n_active_ = p.size();
+        owned_lo_ = 0;
+        owned_hi_ = p.size();
     }
     ParticleArrays download() override { return a_; }
+
+    void set_owned_cells(std::uint32_t begin, std::uint32_t end) override {
+        owned_cells_[0] = begin;
+        owned_cells_[1] = end;
+        update_owned_range();
+    }
+    ParticleArrays copy_cells(std::uint32_t begin, std::uint32_t end) override {
+        ParticleArrays out;
+        const std::size_t lo = cell_start_[begin], hi = cell_start_[end];
+        out.pos.assign(a_.pos.begin() + lo, a_.pos.begin() + hi);
+        out.velrho.assign(a_.velrho.begin() + lo, a_.velrho.begin() + hi);
+        out.cell.assign(a_.cell.begin() + lo, a_.cell.begin() + hi);
+        out.id.assign(a_.id.begin() + lo, a_.id.begin() + hi);
+        return out;
+    }
+    void keep_only_cells(std::uint32_t begin, std::uint32_t end) override {
+        const std::size_t lo = cell_start_[begin], hi = cell_start_[end];
+        const std::size_t out_lo = cell_start_[cfg_.grid.cell_count()], n = a_.size();
+        auto keep = [&](auto& v) {
+            using V = std::decay_t<decltype(v)>;
+            V kept(v.begin() + lo, v.begin() + hi);
+            kept.insert(kept.end(), v.begin() + out_lo, v.begin() + n);
+            v.swap(kept);
+        };
+        keep(a_.pos);
+        keep(a_.velrho);
+        keep(a_.cell);
+        keep(a_.id);
+        a_.force.resize(a_.size());
+    }
+    void append(const ParticleArrays& p) override {
+        a_.pos.insert(a_.pos.end(), p.pos.begin(), p.pos.end());
+        a_.velrho.insert(a_.velrho.end(), p.velrho.begin(), p.velrho.end());
+        a_.cell.insert(a_.cell.end(), p.cell.begin(), p.cell.end());
+        a_.id.insert(a_.id.end(), p.id.begin(), p.id.end());
+        a_.force.resize(a_.size());
+    }
+    std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) override {
+        std::vector<std::uint32_t> out;
+        for (std::uint32_t c : cells) out.push_back(cell_start_[c]);
+        return out;
+    }
+    std::size_t size() const override { return a_.size(); }
 
     void sort_by_cell() override {
         const std::size_t n = a_.size();
@@ -65,19 +92,20 @@ public:
             cell_start_[c] = j;
         }
         n_active_ = cell_start_[ncells];
+        update_owned_range();
     }
 
     void compute_forces() override {
         const ForceInputs in = inputs();
         const PhysicsParams p = cfg_.params;
         real4* force = a_.force.data();
-        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
         dispatch_physics(cfg_.kernel, cfg_.diffusion, cfg_.search, [&](auto k, auto s, auto diffusion) {
             using Kernel = typename decltype(k)::type;
             using Search = typename decltype(s)::type;
             const Kernel kernel(p.h);
 #pragma omp parallel for schedule(static)
-            for (std::ptrdiff_t i = 0; i < n; ++i)
+            for (std::ptrdiff_t i = lo; i < n; ++i)
                 force[i] = particle_force<Kernel, Search, decltype(diffusion)::value>(std::uint32_t(i), in, p, kernel);
         });
     }
@@ -85,7 +113,7 @@ public:
     void build_neighbour_list(real skin) override {
         const ForceInputs in = inputs();
         const real reach = cfg_.params.support + skin;
-        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
         list_count_.assign(a_.size(), 0);
         std::uint32_t longest = 0;
         for (int attempt = 0; attempt < 2; ++attempt) {
@@ -93,7 +121,7 @@ public:
             dispatch_search(cfg_.search, [&](auto s) {
                 using Search = typename decltype(s)::type;
 #pragma omp parallel for reduction(max : longest)
-                for (std::ptrdiff_t i = 0; i < n; ++i) {
+                for (std::ptrdiff_t i = lo; i < n; ++i) {
                     const std::uint32_t c = build_particle_list<Search>(std::uint32_t(i), in, reach * reach,
                                                                         list_index_.data(), std::uint32_t(a_.size()),
                                                                         list_capacity_);
@@ -111,12 +139,12 @@ public:
         const NeighbourList list{list_index_.data(), list_count_.data(), std::uint32_t(a_.size())};
         const PhysicsParams p = cfg_.params;
         real4* force = a_.force.data();
-        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
         dispatch_kernel(cfg_.kernel, cfg_.diffusion, [&](auto k, auto diffusion) {
             using Kernel = typename decltype(k)::type;
             const Kernel kernel(p.h);
 #pragma omp parallel for schedule(static)
-            for (std::ptrdiff_t i = 0; i < n; ++i)
+            for (std::ptrdiff_t i = lo; i < n; ++i)
                 force[i] = a_.cell[i] < cfg_.grid.out_of_domain()
                                ? particle_force_listed<Kernel, decltype(diffusion)::value>(std::uint32_t(i), in, list, p,
                                                                                           kernel)
@@ -129,28 +157,28 @@ public:
     }
 
     void kick_drift(real half_dt, real dt) override {
-        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
 #pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t i = 0; i < n; ++i)
+        for (std::ptrdiff_t i = lo; i < n; ++i)
             particle_kick_drift(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.cell.data(), a_.force.data(),
                                 half_dt, dt, cfg_.grid, cfg_.params);
     }
 
     void kick(real half_dt) override {
-        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
 #pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t i = 0; i < n; ++i)
+        for (std::ptrdiff_t i = lo; i < n; ++i)
             particle_kick(std::uint32_t(i), a_.velrho.data(), a_.force.data(), half_dt, cfg_.params);
     }
 
     StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
         StepStats total;
-        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
 #pragma omp parallel
         {
             StepStats local;
 #pragma omp for schedule(static) nowait
-            for (std::ptrdiff_t i = 0; i < n; ++i)
+            for (std::ptrdiff_t i = lo; i < n; ++i)
                 local = merge_stats(local, particle_stats(std::uint32_t(i), a_.velrho.data(), a_.force.data(),
                                                           a_.id.data(), half_dt, cfg_.params, limits));
 #pragma omp critical
@@ -162,11 +190,11 @@ public:
     WorkCounters count_work() override {
         const ForceInputs in = inputs();
         unsigned long long cand = 0, nb = 0, ranges = 0;
-        const std::ptrdiff_t n = std::ptrdiff_t(n_active_);
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
         dispatch_search(cfg_.search, [&](auto s) {
             using Search = typename decltype(s)::type;
 #pragma omp parallel for reduction(+ : cand, nb, ranges)
-            for (std::ptrdiff_t i = 0; i < n; ++i) {
+            for (std::ptrdiff_t i = lo; i < n; ++i) {
                 const SearchWork w = particle_search_work<Search>(std::uint32_t(i), in, cfg_.params);
                 cand += w.candidates;
                 nb += w.neighbours;
@@ -176,7 +204,7 @@ public:
         return {cand, nb, ranges};
     }
 
-    std::size_t active_count() const override { return n_active_; }
+    std::size_t active_count() const override { return owned_hi_ - owned_lo_; }
     std::size_t bytes_allocated() const override {
         return a_.size() * (2 * sizeof(real4) + sizeof(real4) + 2 * sizeof(std::uint32_t) + 12) +
                cell_start_.size() * sizeof(std::uint32_t) + neighbour_list_bytes();
@@ -184,6 +212,11 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
+    void update_owned_range() {
+        const std::uint32_t ncells = cfg_.grid.cell_count();
+        owned_lo_ = cell_start_[std::min(owned_cells_[0], ncells)];
+        owned_hi_ = cell_start_[std::min(owned_cells_[1], ncells)];
+    }
     ForceInputs inputs() const {
         return {a_.pos.data(), a_.velrho.data(), a_.cell.data(), cell_start_.data(), cfg_.grid};
     }
@@ -203,7 +236,8 @@ private:
     std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;
     std::vector<unsigned char> scratch_;
-    std::size_t n_active_ = 0;
+    std::size_t n_active_ = 0, owned_lo_ = 0, owned_hi_ = 0;
+    std::uint32_t owned_cells_[2] = {0, 0xffffffffu};
     SteadyPhaseClock clock_;
 };
 

@@ -8,6 +8,7 @@ std::unique_ptr<Subdomain> make_cuda_subdomain(const SubdomainConfig&, std::size
     throw InputError("the CUDA backend was asked for, but this build has no CUDA support (nvcc was not found)");
 }
 bool cuda_backend_available() { return false; }
+int cuda_device_count() { return 0; }
 std::string cuda_device_summary() { return ""; }
 
 }  // namespace sph

@@ -64,7 +64,20 @@ public:
     // Not timed: counts the neighbour search's work for the current sorted state.
     virtual WorkCounters count_work() = 0;
 
-    // Particles inside the domain after the last sort (the rest left it).
+    // Multi-device support. After a sort, the particles of a cell range are one contiguous
+    // range (cells are x-major, so a range of X slices is a range of cells).
+    // Per-particle phases (kicks, forces, statistics) act on the particles of the owned cells;
+    // the rest are ghosts of neighbours or particles that left the domain.
+    virtual void set_owned_cells(std::uint32_t begin, std::uint32_t end) = 0;
+    virtual ParticleArrays copy_cells(std::uint32_t begin, std::uint32_t end) = 0;  // pos, velrho, cell, id
+    // Drops every particle outside [begin, end) except those that left the domain.
+    virtual void keep_only_cells(std::uint32_t begin, std::uint32_t end) = 0;
+    virtual void append(const ParticleArrays& particles) = 0;  // unsorted until the next sort
+    // cell_start at the given cells (counts per slice are differences of these).
+    virtual std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) = 0;
+    virtual std::size_t size() const = 0;  // particles held, ghosts included
+
+    // Owned particles inside the domain after the last sort.
     virtual std::size_t active_count() const = 0;
     virtual std::size_t bytes_allocated() const = 0;
     virtual PhaseClock& clock() = 0;
@@ -74,6 +87,7 @@ std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::
 // Throws RunError naming the need and the free memory when the scene does not fit.
 std::unique_ptr<Subdomain> make_cuda_subdomain(const SubdomainConfig& cfg, std::size_t capacity, int device);
 bool cuda_backend_available();  // compiled in and a GPU present
+int cuda_device_count();        // 0 without CUDA
 std::string cuda_device_summary();  // names, driver and runtime versions; "" without CUDA
 
 }  // namespace sph

@@ -1,0 +1,88 @@
+// N subdomains (X slabs with ghosts, migration and load balancing) against one subdomain.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "test_support.hpp"
+
+namespace sph {
+namespace {
+
+Scene small_dambreak() {
+    return make_scene("dambreak", {{"dp", "0.04"}, {"length", "1.0"}, {"column_height", "0.6"}, {"height", "0.8"}});
+}
+
+void expect_each_particle_once(const SnapshotData& s, std::size_t total, long step) {
+    std::set<std::uint32_t> ids(s.id.begin(), s.id.end());
+    ASSERT_EQ(s.id.size(), total) << "step " << step << ": particles lost or duplicated";
+    ASSERT_EQ(ids.size(), total) << "step " << step << ": a particle is held twice";
+}
+
+struct MultiCase {
+    int subdomains;
+    const char* balancer;
+    int cells_per_support;
+    bool merge;
+};
+
+class MultiDevice : public ::testing::TestWithParam<MultiCase> {};
+
+// Ghost slices hold exactly the particles of those cells, sorted by id like everything else,
+// so every particle sums its neighbours in the same order as in one subdomain: the result
+// is bitwise the same, not just within float tolerance.
+TEST_P(MultiDevice, MatchesOneSubdomainBitwise) {
+    const MultiCase mc = GetParam();
+    const Scene s = small_dambreak();
+    SolverOptions one, many;
+    one.search = many.search = SearchOptions{mc.cells_per_support, mc.merge};
+    many.subdomains = mc.subdomains;
+    many.balancer = mc.balancer;
+    Simulation a(s, one), b(s, many);
+    ASSERT_EQ(b.subdomain_count(), mc.subdomains);
+    int moved = 0;
+    for (long k = 1; k <= 60; ++k) {
+        a.step();
+        moved += b.step().slices_moved;
+        if (k % 10 == 0) expect_each_particle_once(b.snapshot(), s.size(), k);
+    }
+    const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < pa.size(); ++i)
+        if (pa[i] != pb[i]) ++differ;
+    EXPECT_EQ(differ, 0u) << "particles whose position differs from the one-subdomain run";
+    EXPECT_DOUBLE_EQ(a.time(), b.time());
+    if (std::string(mc.balancer) != "none") EXPECT_GT(moved, 0) << "the balancer never moved a slice";
+}
+
+INSTANTIATE_TEST_SUITE_P(Slabs, MultiDevice,
+                         ::testing::Values(MultiCase{2, "none", 1, false}, MultiCase{3, "none", 1, true},
+                                           MultiCase{4, "simple", 1, true}, MultiCase{2, "threshold", 1, true},
+                                           MultiCase{3, "every:5", 2, true}, MultiCase{2, "simple", 2, false}),
+                         [](const auto& info) {
+                             std::string b = info.param.balancer;
+                             for (char& c : b)
+                                 if (c == ':') c = '_';
+                             return std::to_string(info.param.subdomains) + "_" + b + "_n" +
+                                    std::to_string(info.param.cells_per_support);
+                         });
+
+TEST(MultiDeviceErrors, TooManySubdomainsForTheGridIsAClearError) {
+    SolverOptions o;
+    o.subdomains = 500;
+    try {
+        Simulation sim(small_dambreak(), o);
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("500"), std::string::npos) << e.what();
+    }
+}
+
+TEST(MultiDeviceErrors, UnknownBalancerIsRefusedByName) {
+    SolverOptions o;
+    o.subdomains = 2;
+    o.balancer = "greedy";
+    EXPECT_THROW(Simulation(small_dambreak(), o), InputError);
+}
+
+}  // namespace
+}  // namespace sph
