@@ -1,5 +1,5 @@
-# The front door. `make test` sets up, builds and runs the tests; `make fig4` (fig3 ... fig10)
-# runs an experiment spec and draws its figure. Without a GPU the figure targets run on the
+# The front door. `make test` sets up, builds and runs the tests; `make fig4` (fig3 ... fig9,
+# table-vl) runs an experiment spec and draws its figure. Without a GPU the figure targets run on the
 # host backend at a reduced scale, and say so.
 BUILD ?= build
 JOBS ?= 2
@@ -7,7 +7,7 @@ CMAKE_ARGS ?=
 SPHBENCH := $(BUILD)/harness/sphbench
 PYTHON ?= python3
 
-.PHONY: all deps configure build test figures fig4 perf-check clean
+.PHONY: all deps configure build test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 multi-gpu cll-vs-vl table-vl perf-check clean
 
 all: build
 
@@ -23,13 +23,22 @@ build: configure
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
-fig%: build
-	@test -f experiments/fig$*.toml || { echo "make: no experiment spec experiments/fig$*.toml"; exit 2; }
+# Figures 3 and 4 have a spec each; Figures 5 to 9 share the multi-gpu experiment (runs that
+# are up to date are not run again, so `make fig5 fig6` runs it once).
+fig3 fig4: fig%: build
 	$(SPHBENCH) run experiments/fig$*.toml
 	$(PYTHON) plots/fig$*.py
 
-figures: build
-	@for spec in experiments/fig*.toml; do n=$$(basename $$spec .toml); $(MAKE) --no-print-directory $$n || exit $$?; done
+multi-gpu cll-vs-vl: build
+	$(SPHBENCH) run experiments/$@.toml
+
+fig5 fig6 fig7 fig8 fig9: fig%: multi-gpu
+	$(PYTHON) plots/fig$*.py
+
+table-vl: cll-vs-vl
+	$(PYTHON) plots/table_vl.py
+
+figures: fig3 fig4 fig5 fig6 fig7 fig8 fig9 table-vl
 
 perf-check: build
 	$(SPHBENCH) run experiments/perf-smoke.toml --backend host --out results/perf-check --force

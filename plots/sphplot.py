@@ -80,6 +80,22 @@ def require_columns(df, columns, path=None):
 
 def load_experiment(folder, experiment=None):
     """Returns (runs, metadata, {run_id: steps}) for one results/NAME folder."""
+    runs, meta = load_runs(folder, experiment)
+    folder = Path(_shown(folder))
+    steps = {}
+    for _, run in runs.iterrows():
+        name = run.get("steps_file")
+        name = f"{run['run_id']}_steps.csv" if pd.isna(name) or name == "" else str(name)
+        path = folder / name
+        if not path.is_file():
+            raise ResultsError(f"{path}, the step file of run {run['run_id']}, is missing.")
+        steps[run["run_id"]] = read_csv_with_metadata(path)[0]
+    return runs, meta, steps
+
+
+def load_runs(folder, experiment=None):
+    """Returns (runs, metadata) for one results/NAME folder, without reading step files
+    (for figures drawn from runs.csv alone, whose spec may not record steps)."""
     folder = Path(_shown(folder))  # errors name the path as the user would type it
     if not folder.is_dir():
         hint = f"; run `make {experiment}` first, or pass --results DIR" if experiment else ""
@@ -92,15 +108,7 @@ def load_experiment(folder, experiment=None):
     if runs.empty:
         raise ResultsError(f"{runs_path} holds no runs.")
     runs["run_id"] = runs["run_id"].astype(str)  # ids like "0" must not turn into ints
-    steps = {}
-    for _, run in runs.iterrows():
-        name = run.get("steps_file")
-        name = f"{run['run_id']}_steps.csv" if pd.isna(name) or name == "" else str(name)
-        path = folder / name
-        if not path.is_file():
-            raise ResultsError(f"{path}, the step file of run {run['run_id']}, is missing.")
-        steps[run["run_id"]] = read_csv_with_metadata(path)[0]
-    return runs, meta, steps
+    return runs, meta
 
 
 def _gpu(runs, meta):
@@ -181,15 +189,43 @@ def _shown(path):
     return rel if not rel.startswith("..") else str(path)
 
 
-def parse_args(name, description, argv=None):
-    """The command line every figure script shares: --results DIR and --out DIR."""
+def parse_args(name, description, argv=None, experiment=None):
+    """The command line every figure script shares: --results DIR and --out DIR.
+    experiment: the results folder's name when it is not the script's (several figures, one experiment)."""
     p = argparse.ArgumentParser(prog=f"{name}.py", description=description)
+    experiment = experiment or name
     # Defaults are anchored at the repository, so the scripts work from any directory.
-    p.add_argument("--results", type=Path, default=REPO / "results" / name,
-                   help=f"results folder written by `sphbench run` (default: results/{name})")
+    p.add_argument("--results", type=Path, default=REPO / "results" / experiment,
+                   help=f"results folder written by `sphbench run` (default: results/{experiment})")
     p.add_argument("--out", type=Path, default=REPO / "plots" / "out",
                    help="where NAME.png and NAME.pdf go (default: plots/out)")
     return p.parse_args(argv)
+
+
+def column(df, name, default):
+    """df[name], or `default` in every row where the harness did not write that column."""
+    return df[name] if name in df.columns else pd.Series(default, index=df.index)
+
+
+def as_bool(values):
+    """A column of true/false (as the harness writes it, or as pandas parsed it) as booleans."""
+    return values.map(lambda v: str(v).strip().lower() in ("true", "1", "1.0", "yes", "on"))
+
+
+def size_label(n):
+    """1034000 -> '1034K', 29800 -> '29.8K': how the paper names its scene sizes."""
+    if n is None or pd.isna(n):
+        return ""
+    n = float(n)
+    return f"{n / 1e6:.4g}M" if n >= 1e7 else f"{n / 1e3:.4g}K" if n >= 1e3 else f"{n:.0f}"
+
+
+def scene_labels(runs):
+    """'armadillo 1034K' per run: the scene and its requested size (set.particles, else particles)."""
+    size = column(runs, "set.particles", None)
+    if size.isna().all():
+        size = column(runs, "particles", None)
+    return pd.Series([f"{s} {size_label(n)}".strip() for s, n in zip(runs["scene"], size)], index=runs.index)
 
 
 def main_guard(name, main):
