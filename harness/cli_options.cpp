@@ -9,6 +9,13 @@ void add_solver_options(CLI::App& cmd, SolverCli& o) {
         ->check(CLI::IsMember({"auto", "cuda", "host"}))
         ->capture_default_str();
     cmd.add_option("--device", o.device, "GPU index for the CUDA backend")->capture_default_str();
+    cmd.add_option("--devices", o.devices,
+                   "subdomains (X slabs, one per logical device): on N GPUs, on one GPU, or on the host")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    cmd.add_option("--device-map", o.device_map, "GPU of each subdomain, e.g. --device-map 0 1 (default: d mod GPUs)");
+    cmd.add_option("--balancer", o.balancer, "load balancing: none, simple, every:K or threshold (paper 5.2)")
+        ->capture_default_str();
     cmd.add_option("--cells-per-support", o.cells_per_support,
                    "Smaller Cell's n: cell size = support radius / n (1 to 4)")
         ->check(CLI::Range(1, 4))
@@ -43,6 +50,16 @@ SolverOptions solver_options(const SolverCli& o) {
     s.search.verlet = o.verlet;
     s.search.skin = o.skin;
     s.search.rebuild_every = o.rebuild_every;
+    s.subdomains = o.devices;
+    s.device_map = o.device_map;
+    s.balancer = o.balancer;
+    if (s.backend == BackendKind::cuda) {
+        const int gpus = cuda_device_count();
+        for (int g : s.device_map)
+            if (g < 0 || g >= gpus)
+                throw InputError("the device map names GPU " + std::to_string(g) + ", but this machine has " +
+                                 std::to_string(gpus) + " GPU(s)");
+    }
     return s;
 }
 

@@ -21,6 +21,9 @@ struct SolverCli {
     bool verlet = false;
     double skin = 0.1;
     int rebuild_every = 0;
+    int devices = 1;
+    std::vector<int> device_map;
+    std::string balancer = "none";
 };
 
 void add_solver_options(CLI::App& cmd, SolverCli& o);

@@ -26,7 +26,7 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
         double total = 0;
         for (double t : s.phase_ms) total += t;
         step_ms.push_back(total);
-        update_ms.push_back(update_time(s.phase_ms));
+        update_ms.push_back(s.update_ms());
         forces_ms.push_back(s.phase_ms[std::size_t(Phase::forces)]);
     }
     const Summary st = summarize(step_ms), up = summarize(update_ms), fo = summarize(forces_ms);

@@ -11,6 +11,9 @@ int main(int argc, char** argv) {
     sph::CommandContext ctx{argc, argv};
     sph::add_simulate_command(app, ctx);
     sph::add_info_command(app, ctx);
+    sph::add_run_command(app, ctx);
+    sph::add_list_command(app, ctx);
+    sph::add_compare_command(app, ctx);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

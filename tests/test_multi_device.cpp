@@ -51,7 +51,9 @@ TEST_P(MultiDevice, MatchesOneSubdomainBitwise) {
         if (pa[i] != pb[i]) ++differ;
     EXPECT_EQ(differ, 0u) << "particles whose position differs from the one-subdomain run";
     EXPECT_DOUBLE_EQ(a.time(), b.time());
-    if (std::string(mc.balancer) != "none") EXPECT_GT(moved, 0) << "the balancer never moved a slice";
+    if (std::string(mc.balancer) != "none") {
+        EXPECT_GT(moved, 0) << "the balancer never moved a slice";
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Slabs, MultiDevice,

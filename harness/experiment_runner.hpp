@@ -1,0 +1,47 @@
+#pragma once
+// Runs the expanded runs of an experiment one after another and writes its table,
+// <out>/<name>/runs.csv: one row per run with its settings, timing summaries and work
+// counters. The table is written last and atomically, so only a finished experiment has one.
+#include <string>
+#include <vector>
+
+#include "experiment_spec.hpp"
+#include "provenance.hpp"
+#include "scene_run.hpp"
+
+namespace sph {
+
+struct ExperimentRunOptions {
+    std::string out_dir = "results";
+    bool quiet = false;
+    Metadata metadata;  // provenance and spec lines for every file written
+};
+
+struct ExperimentOutcome {
+    std::string runs_csv;
+    std::vector<std::string> files;
+};
+
+// The folder an experiment writes into: <out_dir>/<name>.
+std::string experiment_dir(const std::string& out_dir, const ExperimentSpec& spec);
+
+// Throws InputError or RunError naming the run that failed; runs.csv is then not written
+// (and a previous one is removed first, since its step files are being replaced).
+ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs,
+                                 const ExperimentRunOptions& options);
+
+// The run's request to run_scene, with the spec's recording choices.
+SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run);
+
+// Columns and cells of runs.csv.
+std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs);
+std::vector<std::string> runs_csv_row(const std::vector<std::string>& columns, const PlannedRun& run,
+                                      const SceneRunResult& result, const std::string& steps_file);
+
+// The time metrics of runs.csv: update_ms (slowest subdomain's forces plus integration, the
+// paper's real time), update_ideal_ms (their mean), step_ms, then each phase's "<phase>_ms".
+std::vector<std::string> time_metrics();
+// Work counters compared exactly by `compare`.
+const std::vector<std::string>& counter_columns();
+
+}  // namespace sph

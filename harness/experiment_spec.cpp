@@ -1,0 +1,289 @@
+// Strict parsing of experiment specs (TOML). Every message starts with "file:line:" so that a
+// mistake in a long spec is found at once.
+#include "experiment_spec.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+
+// Header-only: the binary then needs no libtomlplusplus.so where it runs.
+#undef TOML_HEADER_ONLY
+#define TOML_HEADER_ONLY 1
+#include <toml++/toml.h>
+
+#include "core/error.hpp"
+#include "scenes/scene.hpp"
+
+namespace sph {
+namespace {
+
+const std::vector<std::string> record_items = {"summary", "steps", "snapshots", "counters-every-step"};
+
+class SpecReader {
+public:
+    explicit SpecReader(std::string path) : path_(std::move(path)) {}
+
+    [[noreturn]] void fail(const toml::source_region& where, const std::string& message) const {
+        fail_at(long(where.begin.line), message);
+    }
+    [[noreturn]] void fail_at(long line, const std::string& message) const {
+        throw InputError(path_ + (line > 0 ? ":" + std::to_string(line) : "") + ": " + message);
+    }
+
+    // Refuses any key of `table` that is not in `known`.
+    void check_keys(const toml::table& table, const std::vector<std::string>& known, const std::string& where) const {
+        for (const auto& [key, node] : table) {
+            if (std::find(known.begin(), known.end(), std::string(key.str())) != known.end()) continue;
+            std::string list;
+            for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+            fail(key.source(), "unknown key '" + std::string(key.str()) + "' in " + where + " (known: " + list + ")");
+        }
+    }
+
+    std::string text(const toml::table& t, const std::string& key, bool required, const std::string& fallback,
+                     const std::string& where) const {
+        const toml::node* n = t.get(key);
+        if (!n) {
+            if (required) fail(t.source(), "missing required key '" + key + "' in " + where);
+            return fallback;
+        }
+        if (!n->is_string()) fail(n->source(), "'" + key + "' must be a string, not " + type_name(*n));
+        return n->value<std::string>().value();
+    }
+
+    long long integer(const toml::table& t, const std::string& key, bool required, long long fallback,
+                      long long lo, const std::string& where) const {
+        const toml::node* n = t.get(key);
+        if (!n) {
+            if (required) fail(t.source(), "missing required key '" + key + "' in " + where);
+            return fallback;
+        }
+        if (!n->is_integer()) fail(n->source(), "'" + key + "' must be an integer, not " + type_name(*n));
+        const long long v = n->value<long long>().value();
+        if (v < lo) fail(n->source(), "'" + key + "' = " + std::to_string(v) + " must be at least " + std::to_string(lo));
+        return v;
+    }
+
+    double number(const toml::table& t, const std::string& key, double fallback, double lo_exclusive) const {
+        const toml::node* n = t.get(key);
+        if (!n) return fallback;
+        if (!n->is_number()) fail(n->source(), "'" + key + "' must be a number, not " + type_name(*n));
+        const double v = n->value<double>().value();
+        if (!(v > lo_exclusive)) fail(n->source(), "'" + key + "' must be greater than " + format_number(lo_exclusive));
+        return v;
+    }
+
+    // A solver setting as validated text.
+    std::string solver_value(const std::string& key, const toml::node& n) const {
+        std::string text;
+        switch (solver_setting_kind(key)) {
+        case SettingKind::text:
+            if (!n.is_string()) fail(n.source(), "'" + key + "' must be a string, not " + type_name(n));
+            text = n.value<std::string>().value();
+            break;
+        case SettingKind::integer:
+            if (!n.is_integer()) fail(n.source(), "'" + key + "' must be an integer, not " + type_name(n));
+            text = std::to_string(n.value<long long>().value());
+            break;
+        case SettingKind::number:
+            if (!n.is_number()) fail(n.source(), "'" + key + "' must be a number, not " + type_name(n));
+            text = format_number(n.value<double>().value());
+            break;
+        case SettingKind::boolean:
+            if (!n.is_boolean()) fail(n.source(), "'" + key + "' must be true or false, not " + type_name(n));
+            text = n.value<bool>().value() ? "true" : "false";
+            break;
+        }
+        try {
+            return check_solver_value(key, text);
+        } catch (const InputError& e) {
+            fail(n.source(), e.what());
+        }
+    }
+
+    SettingMap solver_table(const toml::node& n, const std::string& where) const {
+        const toml::table* t = n.as_table();
+        if (!t) fail(n.source(), "'" + where + "' must be a table, not " + type_name(n));
+        check_keys(*t, solver_setting_keys(), where);
+        SettingMap out;
+        for (const auto& [key, value] : *t) out[std::string(key.str())] = solver_value(std::string(key.str()), value);
+        return out;
+    }
+
+    std::string scene_value(const std::string& key, const toml::node& n) const {
+        if (n.is_integer()) return std::to_string(n.value<long long>().value());
+        if (n.is_floating_point()) return format_number(n.value<double>().value());
+        if (n.is_string()) return n.value<std::string>().value();
+        fail(n.source(), "scene option '" + key + "' must be an integer, a float or a string, not " + type_name(n));
+    }
+
+    static std::string type_name(const toml::node& n) {
+        switch (n.type()) {
+        case toml::node_type::string: return "a string";
+        case toml::node_type::integer: return "an integer";
+        case toml::node_type::floating_point: return "a float";
+        case toml::node_type::boolean: return "a boolean";
+        case toml::node_type::array: return "an array";
+        case toml::node_type::table: return "a table";
+        default: return "a date or time";
+        }
+    }
+
+private:
+    std::string path_;
+};
+
+RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index) {
+    const toml::table* t = node.as_table();
+    if (!t) r.fail(node.source(), "each [[runs]] entry must be a table");
+    r.check_keys(*t, {"scene", "label", "set", "solver"}, "[[runs]]");
+    RunSpec run;
+    run.line = long(t->source().begin.line);
+    run.scene = r.text(*t, "scene", true, "", "[[runs]]");
+    const auto& scenes = scene_catalogue();
+    if (std::none_of(scenes.begin(), scenes.end(), [&](const SceneInfo& s) { return s.name == run.scene; })) {
+        std::string known;
+        for (const auto& s : scenes) known += (known.empty() ? "" : ", ") + s.name;
+        r.fail(t->get("scene")->source(), "unknown scene '" + run.scene + "' (known: " + known + ")");
+    }
+    run.label = filename_safe(r.text(*t, "label", false, run.scene + "-" + std::to_string(index + 1), "[[runs]]"));
+    if (const toml::node* set = t->get("set")) {
+        const toml::table* st = set->as_table();
+        if (!st) r.fail(set->source(), "'set' must be a table of scene options, not " + SpecReader::type_name(*set));
+        for (const auto& [key, value] : *st) run.scene_options[std::string(key.str())] = r.scene_value(std::string(key.str()), value);
+    }
+    if (const toml::node* solver = t->get("solver")) run.solver = r.solver_table(*solver, "solver of [[runs]]");
+    return run;
+}
+
+void read_sweep_axis(const SpecReader& r, const std::string& key, const toml::node& node, ExperimentSpec& spec) {
+    const bool scene_key = key.rfind("set.", 0) == 0 && key.size() > 4;
+    if (!scene_key && !is_solver_setting(key)) {
+        std::string known;
+        for (const auto& k : solver_setting_keys()) known += k + ", ";
+        r.fail(node.source(), "unknown key '" + key + "' in [sweep] (known: " + known + "set.<scene option>)");
+    }
+    const toml::array* values = node.as_array();
+    if (!values) r.fail(node.source(), "'" + key + "' in [sweep] must be an array, not " + SpecReader::type_name(node));
+    if (values->empty()) r.fail(node.source(), "'" + key + "' in [sweep] is an empty array");
+    SweepAxis axis{key, {}};
+    for (const auto& v : *values)
+        axis.values.push_back(scene_key ? r.scene_value(key.substr(4), v) : r.solver_value(key, v));
+    spec.sweep.push_back(std::move(axis));
+}
+
+}  // namespace
+
+bool ExperimentSpec::records(const std::string& item) const {
+    return std::find(record.begin(), record.end(), item) != record.end();
+}
+
+ExperimentSpec load_spec(const std::string& path) {
+    if (!std::filesystem::is_regular_file(path)) throw InputError("experiment spec '" + path + "' does not exist");
+    const SpecReader r(path);
+    toml::table doc;
+    try {
+        doc = toml::parse_file(path);
+    } catch (const toml::parse_error& e) {
+        r.fail(e.source(), "TOML syntax error: " + std::string(e.description()));
+    }
+    r.check_keys(doc,
+                 {"name", "reproduces", "description", "steps", "warmup", "repetitions", "seed", "record",
+                  "snapshot_every", "solver", "runs", "sweep", "host"},
+                 "the top level");
+    ExperimentSpec spec;
+    spec.path = path;
+    const std::string top = "the top level";
+    spec.name = r.text(doc, "name", true, "", top);
+    if (spec.name.empty() || filename_safe(spec.name) != spec.name)
+        r.fail(doc.get("name")->source(), "'name' must be a non-empty file name of letters, digits, '.', '_' or '-'");
+    spec.reproduces = r.text(doc, "reproduces", true, "", top);
+    spec.description = r.text(doc, "description", false, "", top);
+    spec.steps = long(r.integer(doc, "steps", true, 0, 1, top));
+    spec.warmup = long(r.integer(doc, "warmup", false, 0, 0, top));
+    spec.repetitions = long(r.integer(doc, "repetitions", false, 1, 1, top));
+    spec.seed = r.integer(doc, "seed", false, 1, LLONG_MIN, top);
+    spec.snapshot_every = long(r.integer(doc, "snapshot_every", false, 0, 0, top));
+
+    if (const toml::node* rec = doc.get("record")) {
+        const toml::array* items = rec->as_array();
+        if (!items) r.fail(rec->source(), "'record' must be an array of strings, not " + SpecReader::type_name(*rec));
+        spec.record.clear();
+        for (const auto& item : *items) {
+            const auto s = item.value<std::string>();
+            if (!item.is_string() || std::find(record_items.begin(), record_items.end(), *s) == record_items.end())
+                r.fail(item.source(), "unknown item in 'record' (allowed: summary, steps, snapshots, counters-every-step)");
+            spec.record.push_back(*s);
+        }
+    }
+    if (spec.snapshot_every > 0 && !spec.records("snapshots"))
+        r.fail(doc.get("snapshot_every")->source(), "'snapshot_every' needs \"snapshots\" in 'record'");
+    if (spec.records("snapshots") && spec.snapshot_every == 0)
+        r.fail(doc.get("record")->source(), "\"snapshots\" in 'record' needs 'snapshot_every' > 0");
+
+    if (const toml::node* solver = doc.get("solver")) spec.solver = r.solver_table(*solver, "[solver]");
+
+    const toml::node* runs = doc.get("runs");
+    if (!runs) r.fail_at(0, "missing required key 'runs' (one or more [[runs]] tables)");
+    const toml::array* run_list = runs->as_array();
+    if (!run_list || run_list->empty()) r.fail(runs->source(), "'runs' must be one or more [[runs]] tables");
+    for (std::size_t i = 0; i < run_list->size(); ++i) {
+        RunSpec run = read_run(r, *run_list->get(i), i);
+        for (const auto& other : spec.runs)
+            if (other.label == run.label)
+                r.fail_at(run.line, "label '" + run.label + "' is used twice (also at line " +
+                                        std::to_string(other.line) + ")");
+        spec.runs.push_back(std::move(run));
+    }
+
+    if (const toml::node* sweep = doc.get("sweep")) {
+        const toml::table* t = sweep->as_table();
+        if (!t) r.fail(sweep->source(), "'sweep' must be a table, not " + SpecReader::type_name(*sweep));
+        for (const auto& [key, node] : *t) {
+            const std::string k(key.str());
+            if (k == "set" && node.is_table()) {  // set.particles = [...] written as a dotted key
+                for (const auto& [option, values] : *node.as_table())
+                    read_sweep_axis(r, "set." + std::string(option.str()), values, spec);
+            } else {
+                read_sweep_axis(r, k, node, spec);
+            }
+        }
+        std::sort(spec.sweep.begin(), spec.sweep.end(), [](const auto& a, const auto& b) { return a.key < b.key; });
+    }
+
+    if (const toml::node* host = doc.get("host")) {
+        const toml::table* t = host->as_table();
+        if (!t) r.fail(host->source(), "'host' must be a table, not " + SpecReader::type_name(*host));
+        r.check_keys(*t, {"scale", "steps"}, "[host]");
+        HostReduction h;
+        h.scale = r.number(*t, "scale", 1.0, 0.0);
+        h.steps = long(r.integer(*t, "steps", false, 0, 1, "[host]"));
+        spec.host = h;
+    }
+    return spec;
+}
+
+std::string fnv1a_hex(const std::string& bytes) {
+    std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a 64 offset basis
+    for (unsigned char c : bytes) {
+        h ^= c;
+        h *= 0x100000001b3ULL;  // FNV prime
+    }
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+    return buf;
+}
+
+std::string spec_hash(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError("cannot read '" + path + "'");
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return fnv1a_hex(bytes.str());
+}
+
+}  // namespace sph

@@ -1,0 +1,112 @@
+#pragma once
+// Experiment specs: one TOML file per figure or study, parsed strictly and expanded into runs.
+//
+//   name = "fig4"                      # required; results go to results/<name>/
+//   reproduces = "Figure 4: ..."       # required; shown by `sphbench list`
+//   description = "..."                # optional
+//   steps = 1000                       # required; recorded steps per run (> 0)
+//   warmup = 0                         # optional; steps run first and not recorded (>= 0)
+//   repetitions = 1                    # optional; each repetition is its own run (row)
+//   seed = 1                           # optional; recorded in the provenance
+//   record = ["summary", "steps"]      # optional; any of summary, steps, snapshots,
+//                                      #   counters-every-step (runs.csv is always written)
+//   snapshot_every = 0                 # HDF5 snapshot every K steps; needs "snapshots"
+//   [solver]                           # optional defaults for every run:
+//     backend = "auto"                 #   "auto", "cuda" or "host"
+//     devices = 1                      #   X-slab subdomains (1..1024), on N GPUs, one, or the host
+//     device = 0                       #   GPU of a one-subdomain run
+//     balancer = "none"                #   "none", "simple", "every:K" or "threshold"
+//     cells_per_support = 1            #   1..4 (Smaller Cell)
+//     merge = false                    #   Cell Merging
+//     verlet = false                   #   Verlet lists
+//     skin = 0.1                       #   Verlet skin, fraction of the support, (0, 10]
+//     rebuild_every = 0                #   Verlet rebuild every k steps; 0: on displacement
+//     fixed_dt = 1e-4                  #   > 0: fixed step; absent: CFL-limited
+//     cfl = 0.2                        #   (0, 1]
+//     diffusion = true                 #   delta-SPH density diffusion
+//   [[runs]]                           # one or more
+//     scene = "armadillo"              #   required; a scene of `sphbench info`
+//     label = "armadillo-2980K"        #   optional; default: scene name and index
+//     set = { particles = 2980000 }    #   scene options: integer, float or string values
+//     solver = { merge = true }        #   optional per-run overrides of [solver]
+//   [sweep]                            # optional cartesian product over every run: each key a
+//     cells_per_support = [1, 2]       #   solver key or "set.<scene option>", each an array
+//   [host]                             # optional; when a run's backend resolves to the host:
+//     scale = 0.01                     #   particle counts times this (dp over its cube root)
+//     steps = 100                      #   replaces steps
+//
+// Anything else is refused with an InputError naming the file, the line and the key.
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "simulation.hpp"
+#include "solver_settings.hpp"
+
+namespace sph {
+
+struct RunSpec {
+    std::string scene, label;
+    SettingMap scene_options;  // set = { ... }
+    SettingMap solver;         // per-run overrides
+    long line = 0;             // where the [[runs]] entry starts, for messages
+};
+
+struct SweepAxis {
+    std::string key;  // a solver key or "set.<option>"
+    std::vector<std::string> values;
+};
+
+struct HostReduction {
+    double scale = 1.0;
+    long steps = 0;  // 0: keep the spec's steps
+};
+
+struct ExperimentSpec {
+    std::string path, name, reproduces, description;
+    long steps = 0, warmup = 0, repetitions = 1;
+    long long seed = 1;
+    std::vector<std::string> record = {"summary"};
+    long snapshot_every = 0;
+    SettingMap solver;
+    std::vector<RunSpec> runs;
+    std::vector<SweepAxis> sweep;  // ordered by key
+    std::optional<HostReduction> host;
+
+    bool records(const std::string& item) const;
+};
+
+// Throws InputError naming the file and line of any problem.
+ExperimentSpec load_spec(const std::string& path);
+
+struct ExpandOptions {
+    std::vector<std::pair<std::string, std::string>> overrides;  // --set key=value, in order
+    double scale = 1.0;                                          // --scale
+    std::string backend;        // --backend: "" keeps the spec's choice
+    bool gpu_available = false;  // how "auto" resolves
+};
+
+struct PlannedRun {
+    std::string run_id;  // unique per row, filename-safe: config plus "_rep<k>" when repeated
+    std::string config;  // label plus sweep values: what compare matches across repetitions
+    std::string label, scene;
+    SettingMap scene_options;    // after scaling
+    SettingMap solver_settings;  // every solver key, resolved, for CSV columns
+    SolverOptions solver;
+    long steps = 0, warmup = 0, snapshot_every = 0;
+    long repetition = 1;  // 1-based
+    double scale = 1.0;   // --scale times [host] scale where it applied
+    bool reduced_scale = false;
+};
+
+// The cartesian product of runs x sweep x repetitions with overrides and scaling applied.
+// Throws InputError for an override of an unknown key or a bad value.
+std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& options);
+
+// FNV-1a 64 of the file's bytes, as 16 hex digits. Throws InputError if unreadable.
+std::string spec_hash(const std::string& path);
+std::string fnv1a_hex(const std::string& bytes);
+
+}  // namespace sph

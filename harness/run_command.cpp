@@ -1,0 +1,237 @@
+// sphbench run SPEC: expands an experiment spec and runs it, writing results/<name>/runs.csv
+// and what the spec records; or shows the plan (--dry-run), or a short pass for Nsight
+// Systems (--profile). An experiment whose spec, binary and options are unchanged is skipped.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "cli_options.hpp"
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "csv_table.hpp"
+#include "experiment_runner.hpp"
+#include "statistics.hpp"
+
+namespace sph {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunArgs {
+    std::string spec;
+    std::vector<std::string> settings;
+    double scale = 1.0;
+    std::string backend;
+    std::string out = "results";
+    bool dry_run = false, profile = false, force = false, quiet = false;
+};
+
+constexpr long profile_steps = 20;
+constexpr double cuda_rate = 1e8;           // particle-steps per second, rough
+constexpr double host_rate_per_core = 1e6;  // particle-steps per second per core, rough
+
+std::string binary_hash() {
+    std::ifstream in("/proc/self/exe", std::ios::binary);
+    if (!in) return "unknown";
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return fnv1a_hex(bytes.str());
+}
+
+// What the command line changed, in one line: part of what makes results up to date.
+std::string overrides_text(const RunArgs& a) {
+    std::string s;
+    for (const auto& kv : a.settings) s += (s.empty() ? "" : " ") + ("--set " + kv);
+    if (a.scale != 1.0) s += (s.empty() ? "" : " ") + ("--scale " + format_number(a.scale));
+    if (!a.backend.empty()) s += (s.empty() ? "" : " ") + ("--backend " + a.backend);
+    return s.empty() ? "none" : s;
+}
+
+std::string backends_of(const std::vector<PlannedRun>& runs) {
+    std::set<std::string> names;
+    for (const auto& r : runs) names.insert(r.solver.backend == BackendKind::cuda ? "cuda" : "host");
+    return names.size() == 1 ? *names.begin() : "mixed";
+}
+
+bool up_to_date(const std::string& runs_csv, const Metadata& now) {
+    if (!fs::exists(runs_csv)) return false;
+    Metadata old;
+    try {
+        old = read_csv_metadata(runs_csv);
+    } catch (const InputError&) {
+        return false;
+    }
+    auto value = [](const Metadata& m, const std::string& key) {
+        for (const auto& [k, v] : m)
+            if (k == key) return v;
+        return std::string("\x01missing");
+    };
+    for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend"})
+        if (value(old, key) != value(now, key)) return false;
+    return true;
+}
+
+// Particles of a run, boundary included, without building a large scene: a `particles`
+// option is the fluid count, so a small version of the scene is built and its boundary,
+// a surface, scaled by the 2/3 power of the fluid ratio.
+std::size_t particle_estimate(const PlannedRun& run, std::map<std::string, std::size_t>& cache) {
+    constexpr double probe_fluid = 20000;
+    SettingMap options = run.scene_options;
+    double fluid = 0;
+    if (auto it = options.find("particles"); it != options.end()) {
+        fluid = std::stod(it->second);
+        if (fluid > probe_fluid) it->second = std::to_string(long(probe_fluid));
+    }
+    std::string key = run.scene;
+    for (const auto& [k, v] : options) key += " " + k + "=" + v;
+    auto found = cache.find(key);
+    if (found == cache.end()) {
+        const Scene probe = make_scene(run.scene, options);
+        if (fluid <= 0 || double(probe.fluid_count()) >= fluid) {
+            found = cache.emplace(key, probe.size()).first;
+        } else {
+            const double boundary = double(probe.n_boundary) * std::pow(fluid / double(probe.fluid_count()), 2.0 / 3.0);
+            found = cache.emplace(key, std::size_t(fluid + boundary)).first;
+        }
+    }
+    return found->second;
+}
+
+void print_plan(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs) {
+    std::printf("%s: %s\n%zu runs from %s\n", spec.name.c_str(), spec.reproduces.c_str(), runs.size(),
+                spec.path.c_str());
+    std::printf("%-40s %-14s %6s %6s  %-30s %s\n", "run_id", "scene", "steps", "warmup", "scene options", "solver (non-default)");
+    double cuda_work = 0, host_work = 0;
+    std::map<std::string, std::size_t> estimates;
+    for (const auto& r : runs) {
+        std::string opts, solver = r.solver.backend == BackendKind::cuda ? "cuda" : "host";
+        for (const auto& [k, v] : r.scene_options) opts += (opts.empty() ? "" : " ") + k + "=" + v;
+        static const SettingMap defaults = complete_solver_settings({});
+        for (const auto& [k, v] : r.solver_settings)  // only what differs from the defaults
+            if (k != "backend" && defaults.at(k) != v) solver += " " + k + "=" + v;
+        std::printf("%-40s %-14s %6ld %6ld  %-30s %s\n", r.run_id.c_str(), r.scene.c_str(), r.steps, r.warmup,
+                    opts.empty() ? "(defaults)" : opts.c_str(), solver.c_str());
+        const double work = double(particle_estimate(r, estimates)) * double(r.steps + r.warmup);
+        (r.solver.backend == BackendKind::cuda ? cuda_work : host_work) += work;
+    }
+    const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+    const double seconds = cuda_work / cuda_rate + host_work / (host_rate_per_core * cores);
+    std::printf("cost: %.3g particle-steps (boundary included); about %.0f s (rough rates: %.0e particle-steps/s on CUDA, %.0e per core "
+                "on the host, %d cores)\n",
+                cuda_work + host_work, seconds, cuda_rate, host_rate_per_core, cores);
+}
+
+void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs, const RunArgs& a,
+                  const CommandContext& ctx) {
+    std::string cmd;
+    for (int i = 0; i < ctx.argc; ++i) cmd += (i ? " " : "") + std::string(ctx.argv[i]);
+    std::printf("profile pass: up to %ld steps per run, nothing written. For a timeline, run it under Nsight Systems:\n"
+                "  nsys profile --trace=cuda,nvtx,osrt --output=%s/%s-profile %s\n",
+                profile_steps, a.out.c_str(), spec.name.c_str(), cmd.c_str());
+    for (const auto& run : runs) {
+        SceneRunRequest req = scene_request(spec, run);
+        req.steps = std::min(run.steps, profile_steps);
+        req.warmup = 0;
+        req.snapshot_every = 0;
+        req.out_dir.clear();
+        req.progress = !a.quiet;
+        const SceneRunResult r = run_scene(req);
+        std::vector<double> step_ms;
+        for (const auto& s : r.steps) {
+            double t = 0;
+            for (double p : s.phase_ms) t += p;
+            step_ms.push_back(t);
+        }
+        std::printf("%s: %zu particles, %ld steps, median step %.3f ms\n", run.run_id.c_str(), r.particles, req.steps,
+                    summarize(step_ms).median);
+    }
+}
+
+void run_spec(const RunArgs& a, CommandContext& ctx) {
+    const ExperimentSpec spec = load_spec(a.spec);
+    ExpandOptions ex;
+    for (const auto& [k, v] : parse_settings(a.settings)) ex.overrides.emplace_back(k, v);
+    ex.scale = a.scale;
+    ex.backend = a.backend;
+    ex.gpu_available = cuda_backend_available();
+    const std::vector<PlannedRun> runs = expand(spec, ex);
+
+    const PlannedRun& first = runs.front();
+    const bool reduced = std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.reduced_scale; });
+    const bool host_reduced = reduced && first.solver.backend == BackendKind::host && spec.host;
+    if (host_reduced)
+        std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g, %ld steps instead of %ld)\n",
+                    spec.name.c_str(), first.scale, first.steps, spec.steps);
+    if (a.dry_run) {
+        print_plan(spec, runs);
+        ctx.exit_code = exit_ok;
+        return;
+    }
+    if (a.profile) {
+        profile_pass(spec, runs, a, ctx);
+        ctx.exit_code = exit_ok;
+        return;
+    }
+
+    const std::string backend = backends_of(runs);
+    ExperimentRunOptions opt;
+    opt.out_dir = a.out;
+    opt.quiet = a.quiet;
+    opt.metadata = provenance(backend, backend == "host" ? "host" : cuda_device_summary(),
+                              command_line_of(ctx.argc, ctx.argv));
+    opt.metadata.emplace_back("experiment", spec.name);
+    opt.metadata.emplace_back("reproduces", spec.reproduces);
+    opt.metadata.emplace_back("spec", spec.path);
+    opt.metadata.emplace_back("spec_hash", spec_hash(spec.path));
+    opt.metadata.emplace_back("binary_hash", binary_hash());
+    opt.metadata.emplace_back("overrides", overrides_text(a));
+    opt.metadata.emplace_back("seed", std::to_string(spec.seed));
+    opt.metadata.emplace_back("scale", format_number(first.scale));
+    opt.metadata.emplace_back("reduced_scale", reduced ? "yes" : "no");
+
+    const std::string runs_csv = (fs::path(experiment_dir(a.out, spec)) / "runs.csv").string();
+    if (!a.force && up_to_date(runs_csv, opt.metadata)) {
+        std::printf("%s: up to date (use --force to run again)\n", spec.name.c_str());
+        ctx.exit_code = exit_ok;
+        return;
+    }
+    const ExperimentOutcome out = run_experiment(spec, runs, opt);
+    if (!a.quiet)
+        for (const auto& f : out.files) std::printf("wrote %s\n", f.c_str());
+    else
+        std::printf("%s: %zu runs, wrote %s\n", spec.name.c_str(), runs.size(), out.runs_csv.c_str());
+    ctx.exit_code = exit_ok;
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, CommandContext& ctx) {
+    auto a = std::make_shared<RunArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "run", "run an experiment spec (experiments/*.toml): every run, its timings and counters, into "
+               "DIR/<name>/runs.csv with full provenance; skipped when spec, binary and options are unchanged");
+    cmd->add_option("spec", a->spec, "experiment spec, e.g. experiments/fig4.toml")->required();
+    std::string solver_keys;
+    for (const auto& k : solver_setting_keys()) solver_keys += (solver_keys.empty() ? "" : ", ") + k;
+    cmd->add_option("--set", a->settings,
+                    "override key=value in every run (repeatable): a solver key (" + solver_keys +
+                        "), set.<scene option>, steps, warmup or repetitions");
+    cmd->add_option("--scale", a->scale, "multiply every particle count by F (dp by F^(-1/3))")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--backend", a->backend, "cuda, host or auto (default: the spec's, else auto)")
+        ->check(CLI::IsMember({"auto", "cuda", "host"}));
+    cmd->add_option("--out", a->out, "results folder; the experiment writes into DIR/<name>/")->capture_default_str();
+    cmd->add_flag("--dry-run", a->dry_run, "print the expanded runs and their estimated cost; run nothing");
+    cmd->add_flag("--profile", a->profile,
+                  "run a short pass of each run (20 steps, nothing written) to record under Nsight Systems");
+    cmd->add_flag("--force", a->force, "run even when the results are up to date");
+    cmd->add_flag("--quiet", a->quiet, "no progress line and no per-run lines");
+    cmd->callback([a, &ctx] { run_spec(*a, ctx); });
+}
+
+}  // namespace sph

@@ -1,0 +1,284 @@
+// Regression verdicts on generated results (A/A, an injected slowdown, a changed counter,
+// nothing comparable, Google Benchmark JSON), and `run` then `compare` end to end on the host.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "csv_table.hpp"
+#include "io/csv_writer.hpp"
+#include "regression_compare.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sph {
+namespace {
+
+// Runs `sphbench ARGS...` through the real command registrations; returns its exit code.
+int sphbench(std::vector<std::string> args) {
+    args.insert(args.begin(), "sphbench");
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    CLI::App app{"sphbench"};
+    app.require_subcommand(1);
+    CommandContext ctx{int(argv.size()), argv.data()};
+    add_run_command(app, ctx);
+    add_compare_command(app, ctx);
+    try {
+        app.parse(int(argv.size()), argv.data());
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? exit_ok : exit_usage;
+    } catch (const InputError&) {
+        return exit_usage;
+    }
+    return ctx.exit_code;
+}
+
+struct FakeRun {
+    std::string id;
+    double update_ms = 10;       // median of the step times
+    long candidates = 123456;
+};
+
+class CompareTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() / ("sph_test_compare_" + std::to_string(::getpid()) + "_" + info->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    // A result folder as `run` writes it: runs.csv plus one step file per run, each step's
+    // time drawn around the run's update time with 3% noise.
+    std::string folder(const std::string& name, const std::vector<FakeRun>& runs, unsigned seed, long steps = 60) {
+        const fs::path d = dir_ / name;
+        std::mt19937 rng(seed);
+        std::normal_distribution<double> noise(1.0, 0.03);
+        CsvWriter table((d / "runs.csv").string(),
+                        {"run_id", "config", "scene", "repetition", "particles", "fluid", "boundary", "update_ms_median",
+                         "step_ms_median", "candidates_per_step", "neighbours_per_step", "ranges_per_step", "steps_file"},
+                        {{"experiment", name}});
+        for (const auto& r : runs) {
+            const std::string steps_file = r.id + "_steps.csv";
+            CsvWriter s((d / steps_file).string(), {"step", "update_ms", "step_ms"});
+            std::vector<double> update;
+            for (long k = 1; k <= steps; ++k) {
+                const double u = r.update_ms * noise(rng);
+                update.push_back(u);
+                s.row({std::to_string(k), CsvWriter::fmt(u), CsvWriter::fmt(u * 1.5)});
+            }
+            s.commit();
+            std::sort(update.begin(), update.end());
+            const double median = update[update.size() / 2];
+            table.row({r.id, r.id, "tank", "1", "1000", "800", "200", CsvWriter::fmt(median), CsvWriter::fmt(median * 1.5),
+                       std::to_string(r.candidates), "5000", "27000", steps_file});
+        }
+        table.commit();
+        return d.string();
+    }
+
+    std::string benchmark_json(const std::string& name, double slowdown, unsigned seed) {
+        std::mt19937 rng(seed);
+        std::normal_distribution<double> noise(1.0, 0.02);
+        std::string text = "{\n  \"context\": {\"date\": \"now\", \"num_cpus\": 2},\n  \"benchmarks\": [\n";
+        bool first = true;
+        for (const char* bench : {"BM_Forces/4096", "BM_Search/4096"}) {
+            for (int rep = 0; rep < 10; ++rep) {
+                text += std::string(first ? "" : ",\n") + "    {\"name\": \"" + bench + "\", \"run_name\": \"" + bench +
+                        "\", \"run_type\": \"iteration\", \"repetitions\": 10, \"repetition_index\": " +
+                        std::to_string(rep) + ", \"iterations\": 100, \"real_time\": " +
+                        CsvWriter::fmt(2.5e5 * slowdown * noise(rng)) + ", \"cpu_time\": 2.5e5, \"time_unit\": \"ns\"}";
+                first = false;
+            }
+            text += std::string(",\n    {\"name\": \"") + bench + "_mean\", \"run_name\": \"" + bench +
+                    "\", \"run_type\": \"aggregate\", \"aggregate_name\": \"mean\", \"real_time\": 1e9, \"time_unit\": \"ns\"}";
+        }
+        text += "\n  ]\n}\n";
+        const std::string path = (dir_ / name).string();
+        std::ofstream(path) << text;
+        return path;
+    }
+
+    fs::path dir_;
+};
+
+const MetricComparison* find(const Comparison& c, const std::string& run, const std::string& metric) {
+    for (const auto& r : c.rows)
+        if (r.run == run && r.metric == metric) return &r;
+    return nullptr;
+}
+
+TEST(RankTest, MannWhitneySeparatesShiftedSamplesAndNotEqualOnes) {
+    std::vector<double> a, b, c;
+    for (int i = 0; i < 20; ++i) {
+        a.push_back(i);
+        b.push_back(i + 0.5);
+        c.push_back(i + 100);
+    }
+    EXPECT_GT(mann_whitney_p(a, b), 0.5);
+    EXPECT_LT(mann_whitney_p(a, c), 1e-6);
+    EXPECT_DOUBLE_EQ(mann_whitney_p({1, 1, 1}, {1, 1, 1}), 1.0);  // all tied
+    // Symmetric in its arguments.
+    EXPECT_NEAR(mann_whitney_p(a, c), mann_whitney_p(c, a), 1e-15);
+}
+
+TEST_F(CompareTest, AaComparisonFindsNoRegression) {
+    const std::vector<FakeRun> runs = {{"tank-1"}, {"dambreak-2", 20}};
+    const std::string a = folder("a", runs, 1), b = folder("b", runs, 2);
+    const Comparison c = compare_results(load_results(a), load_results(b), CompareOptions{});
+    ASSERT_TRUE(c.comparable());
+    EXPECT_FALSE(c.regressed());
+    for (const auto& r : c.rows) EXPECT_NE(r.verdict, Verdict::slower) << r.run << " " << r.metric;
+    const MetricComparison* u = find(c, "tank-1", "update_ms");
+    ASSERT_NE(u, nullptr);
+    EXPECT_EQ(u->n_baseline, 60u);  // the per-step samples
+    EXPECT_EQ(u->verdict, Verdict::same);
+    EXPECT_EQ(sphbench({"compare", a, b}), 0);
+}
+
+TEST_F(CompareTest, TwentyPercentSlowdownIsFlaggedSlower) {
+    const std::string a = folder("a", {{"tank-1"}, {"dambreak-2"}}, 1);
+    const std::string b = folder("b", {{"tank-1", 12.0}, {"dambreak-2"}}, 2);
+    const Comparison c = compare_results(load_results(a), load_results(b), CompareOptions{});
+    const MetricComparison* u = find(c, "tank-1", "update_ms");
+    ASSERT_NE(u, nullptr);
+    EXPECT_EQ(u->verdict, Verdict::slower);
+    EXPECT_NEAR(u->change, 0.2, 0.03);
+    EXPECT_LT(u->p, 1e-6);
+    EXPECT_EQ(find(c, "dambreak-2", "update_ms")->verdict, Verdict::same);
+    EXPECT_TRUE(c.regressed());
+    const std::string json = (dir_ / "verdict.json").string();
+    EXPECT_EQ(sphbench({"compare", a, b, "--json", json}), 1);
+    std::ifstream in(json);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("\"verdict\": \"SLOWER\""), std::string::npos) << text;
+    // The reverse direction is FASTER, which is no regression.
+    const Comparison back = compare_results(load_results(b), load_results(a), CompareOptions{});
+    EXPECT_EQ(find(back, "tank-1", "update_ms")->verdict, Verdict::faster);
+    EXPECT_EQ(sphbench({"compare", b, a}), 0);
+    // Too few samples to tell: AMBIGUOUS, not SLOWER.
+    const std::string few_a = folder("few_a", {{"tank-1"}}, 1, 4), few_b = folder("few_b", {{"tank-1", 12.0}}, 2, 4);
+    EXPECT_EQ(compare_results(load_results(few_a), load_results(few_b), CompareOptions{}).rows.front().verdict,
+              Verdict::ambiguous);
+}
+
+TEST_F(CompareTest, ChangedCounterIsFlaggedEvenWhenOnlyCountersAreCompared) {
+    const std::string a = folder("a", {{"tank-1"}}, 1);
+    const std::string b = folder("b", {{"tank-1", 10, 123457}}, 1);
+    CompareOptions counters_only;
+    counters_only.time_metrics.clear();
+    const Comparison c = compare_results(load_results(a), load_results(b), counters_only);
+    const MetricComparison* k = find(c, "tank-1", "candidates_per_step");
+    ASSERT_NE(k, nullptr);
+    EXPECT_EQ(k->verdict, Verdict::counter_changed);
+    EXPECT_EQ(find(c, "tank-1", "update_ms"), nullptr);
+    EXPECT_EQ(find(c, "tank-1", "neighbours_per_step")->verdict, Verdict::same);
+    EXPECT_EQ(sphbench({"compare", a, b, "--metrics", "counters"}), 1);
+}
+
+TEST_F(CompareTest, UnmatchedRunsAreNothingComparable) {
+    const std::string a = folder("a", {{"tank-1"}}, 1), b = folder("b", {{"tank-2"}}, 2);
+    const Comparison c = compare_results(load_results(a), load_results(b), CompareOptions{});
+    EXPECT_FALSE(c.comparable());
+    EXPECT_EQ(c.only_in_baseline, std::vector<std::string>{"tank-1"});
+    EXPECT_EQ(sphbench({"compare", a, b}), 3);
+}
+
+TEST_F(CompareTest, SetupErrorsExitWithTwo) {
+    const std::string a = folder("a", {{"tank-1"}}, 1);
+    EXPECT_EQ(sphbench({"compare", a, (dir_ / "missing").string()}), 2);
+    fs::create_directories(dir_ / "empty");
+    EXPECT_EQ(sphbench({"compare", a, (dir_ / "empty").string()}), 2);
+    EXPECT_EQ(sphbench({"compare", a, a, "--metrics", "update_s"}), 2);
+    std::ofstream(dir_ / "broken.csv") << "run_id,config\nonly-one-cell\n";
+    EXPECT_EQ(sphbench({"compare", a, (dir_ / "broken.csv").string()}), 2);
+}
+
+TEST_F(CompareTest, GoogleBenchmarkJsonPairs) {
+    const std::string base = benchmark_json("base.json", 1.0, 1), same = benchmark_json("same.json", 1.0, 2);
+    const std::string slow = benchmark_json("slow.json", 1.2, 3);
+    const Comparison aa = compare_results(load_results(base), load_results(same), CompareOptions{});
+    ASSERT_EQ(aa.rows.size(), 2u);  // two benchmarks, real_time each; aggregates ignored
+    EXPECT_EQ(aa.rows[0].n_baseline, 10u);
+    EXPECT_FALSE(aa.regressed());
+    EXPECT_EQ(sphbench({"compare", base, same}), 0);
+    const Comparison ab = compare_results(load_results(base), load_results(slow), CompareOptions{});
+    EXPECT_EQ(find(ab, "BM_Forces/4096", "real_time")->verdict, Verdict::slower);
+    EXPECT_EQ(sphbench({"compare", base, slow}), 1);
+    std::ofstream(dir_ / "bad.json") << "{\"benchmarks\": [ {\"name\": }";
+    EXPECT_EQ(sphbench({"compare", base, (dir_ / "bad.json").string()}), 2);
+}
+
+// The real `run` path on the host backend, twice, then `compare` of the two on counters.
+TEST_F(CompareTest, RunTwiceOnTheHostThenCountersMatch) {
+    const std::string spec = (dir_ / "tiny.toml").string();
+    std::ofstream(spec) << "name = \"tiny\"\nreproduces = \"the end-to-end test\"\nsteps = 5\nseed = 7\n"
+                           "record = [\"summary\", \"steps\"]\n"
+                           "[[runs]]\nscene = \"tank\"\nlabel = \"tank\"\nset = { dp = 0.05 }\n";
+    const std::string out1 = (dir_ / "out1").string(), out2 = (dir_ / "out2").string();
+    ASSERT_EQ(sphbench({"run", spec, "--backend", "host", "--out", out1, "--quiet"}), 0);
+    ASSERT_EQ(sphbench({"run", spec, "--backend", "host", "--out", out2, "--quiet"}), 0);
+
+    const CsvTable t = read_csv(out1 + "/tiny/runs.csv");
+    for (const char* column : {"run_id", "scene", "repetition", "backend", "device", "particles", "fluid", "boundary", "dp",
+                               "steps", "warmup", "cells_per_support", "merge", "fixed_dt", "cfl", "diffusion", "set.dp",
+                               "update_ms_median", "update_ms_q1", "update_ms_q3", "update_ms_min", "step_ms_median",
+                               "forces_ms_median", "neighbour_list_ms_min", "mparticle_steps_per_s",
+                               "bytes_per_particle", "candidates_per_step", "neighbours_per_step", "ranges_per_step",
+                               "sim_time", "wall_s", "steps_file"})
+        EXPECT_GE(t.column(column), 0) << column;
+    ASSERT_EQ(t.rows.size(), 1u);
+    EXPECT_EQ(t.cell(0, "run_id"), "tank");
+    EXPECT_EQ(t.cell(0, "backend"), "host");
+    EXPECT_EQ(t.cell(0, "steps_file"), "tank_steps.csv");
+    EXPECT_TRUE(fs::exists(out1 + "/tiny/tank_steps.csv"));
+    EXPECT_GT(std::stod(t.cell(0, "neighbours_per_step")), 0);
+    for (const char* key : {"git_commit", "build_type", "backend", "host", "date", "command_line", "spec", "spec_hash",
+                            "binary_hash", "overrides", "seed", "scale", "reduced_scale"})
+        EXPECT_TRUE(t.meta(key).has_value()) << key;
+    EXPECT_EQ(t.meta("seed").value(), "7");
+    EXPECT_EQ(t.meta("reduced_scale").value(), "no");
+    EXPECT_EQ(t.meta("overrides").value(), "--backend host");
+    EXPECT_TRUE(read_csv(out1 + "/tiny/tank_steps.csv").meta("spec_hash").has_value());
+
+    EXPECT_EQ(sphbench({"compare", out1 + "/tiny", out2 + "/tiny", "--metrics", "counters"}), 0);
+
+    // Unchanged spec, binary and options: not run again.
+    const auto before = fs::last_write_time(out1 + "/tiny/runs.csv");
+    ::testing::internal::CaptureStdout();
+    EXPECT_EQ(sphbench({"run", spec, "--backend", "host", "--out", out1, "--quiet"}), 0);
+    EXPECT_NE(::testing::internal::GetCapturedStdout().find("tiny: up to date"), std::string::npos);
+    EXPECT_EQ(fs::last_write_time(out1 + "/tiny/runs.csv"), before);
+}
+
+TEST_F(CompareTest, FailingRunIsNamedAndLeavesNoTable) {
+    const std::string spec = (dir_ / "broken.toml").string();
+    std::ofstream(spec) << "name = \"broken\"\nreproduces = \"a failing run\"\nsteps = 2\n"
+                           "[[runs]]\nscene = \"tank\"\nlabel = \"bad-tank\"\nset = { colour = \"blue\" }\n";
+    const std::string out = (dir_ / "out").string();
+    std::vector<std::string> args = {"sphbench", "run", spec, "--backend", "host", "--out", out, "--quiet"};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    CLI::App app{"sphbench"};
+    CommandContext ctx{int(argv.size()), argv.data()};
+    add_run_command(app, ctx);
+    try {
+        app.parse(int(argv.size()), argv.data());
+        FAIL() << "the run should fail";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("bad-tank"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("colour"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out + "/broken/runs.csv"));
+}
+
+}  // namespace
+}  // namespace sph
