@@ -42,7 +42,7 @@ figures: fig3 fig4 fig5 fig6 fig7 fig8 fig9 table-vl
 
 perf-check: build
 	$(SPHBENCH) run experiments/perf-smoke.toml --backend host --out results/perf-check --force
-	$(SPHBENCH) compare results/reference/host/perf-smoke results/perf-check/perf-smoke
+	$(SPHBENCH) compare results/reference/host/perf-smoke results/perf-check/perf-smoke --metrics counters
 
 clean:
 	rm -rf $(BUILD)
