@@ -25,7 +25,7 @@ pack)
   cp build-gpu/harness/sphbench build-gpu/tests/sph_tests "$CARRY/bin/"
   # Every shared library but the C runtime and the C++ runtime (the GPU machine's are newer).
   ldd build-gpu/harness/sphbench build-gpu/tests/sph_tests | awk '$3 ~ /^\// {print $3}' | sort -u |
-    grep -v -E '/(libc|libm|libdl|libpthread|librt|ld-linux[^/]*|libstdc\+\+|libgcc_s)\.so' |
+    grep -v -E '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux[^/]*|libstdc\+\+|libgcc_s)\.so' |
     xargs -r -I{} cp -L {} "$CARRY/lib/"
   MESHES=${SPH_MESH_DIR:-../shared/meshes}
   [ -d "$MESHES" ] && cp "$MESHES"/*.obj "$CARRY/meshes/" || echo "gpu-run: no meshes found at $MESHES"

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The GPU runs behind results/reference/<gpu>/ and the README's figures, in one command for a
+# GPU machine (through tools/gpu-run.sh exec). Writes everything under $1 (default results/gpu).
+#   single: benchmarks against DualSPHysics, the CUDA-vs-host test, fig4, fig3, cll-vs-vl
+#   multi:  the multi-gpu experiment (figures 5 to 9); needs 2 GPUs
+set -uo pipefail
+out=${2:-results/gpu}
+mkdir -p "$out"
+export NCCL_NVLS_ENABLE=0
+case "${1:-single}" in
+single)
+  nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
+  sph_tests --gtest_filter='CudaBackend.*' 2>&1 | grep -E 'cuda vs host|OK|FAILED|PASSED' | tee "$out/cuda_vs_host.txt"
+  for args in "dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2" \
+              "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2" \
+              "armadillo --set particles=2980000" "armadillo --set particles=2980000 --merge --cells-per-support 2"; do
+    echo "== sphbench simulate $args" | tee -a "$out/benchmarks.txt"
+    sphbench simulate $args --steps 300 --warmup 20 --backend cuda --quiet --out "$out/simulate" 2>&1 | tee -a "$out/benchmarks.txt"
+  done
+  for spec in fig4 cll-vs-vl fig3; do sphbench run experiments/$spec.toml --backend cuda --out "$out" --force --quiet; done
+  ;;
+multi)
+  nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
+  nvidia-smi topo -m | tee "$out/topology.txt"
+  sphbench run experiments/multi-gpu.toml --backend cuda --out "$out" --force --quiet
+  ;;
+esac
