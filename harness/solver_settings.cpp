@@ -23,7 +23,7 @@ const std::vector<SettingInfo>& settings() {
     static const std::vector<SettingInfo> table = {
         {"backend", SettingKind::text, "auto", 0, 0},
         {"devices", SettingKind::integer, "1", 1, 1024},
-        {"device", SettingKind::integer, "0", 0, 1023},
+        {"gpu", SettingKind::integer, "0", 0, 1023},  // GPU of a one-subdomain run ("device" names the GPU in runs.csv)
         {"balancer", SettingKind::text, "none", 0, 0},
         {"cells_per_support", SettingKind::integer, "1", 1, 4},
         {"merge", SettingKind::boolean, "false", 0, 0},
@@ -120,7 +120,7 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
     const std::string& backend = c.at("backend");
     o.backend = backend == "cuda" || (backend == "auto" && gpu_available) ? BackendKind::cuda : BackendKind::host;
     o.subdomains = std::stoi(c.at("devices"));
-    o.device = std::stoi(c.at("device"));
+    o.device = std::stoi(c.at("gpu"));
     o.balancer = c.at("balancer");
     o.search.cells_per_support = std::stoi(c.at("cells_per_support"));
     o.search.merge = c.at("merge") == "true";

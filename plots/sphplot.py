@@ -115,9 +115,11 @@ def _gpu(runs, meta):
     # Prefer what the runs saw; the file-level metadata is a fallback for older files.
     names = []
     if "device" in runs.columns:
-        names = [str(d) for d in runs["device"].dropna().unique()]
+        # Results of commit 400b46a have a GPU index, not a name, in this column (a column
+        # name clash since fixed): skip bare numbers and use the metadata.
+        names = [str(d) for d in runs["device"].dropna().unique() if not str(d).strip().isdigit()]
     if not names:
-        names = [meta.get("devices") or meta.get("cuda", "").split(" | ")[0] or "unknown device"]
+        names = [(meta.get("devices") or meta.get("cuda", "")).split(" | ")[0] or "unknown device"]
     parts = []
     for name in names:  # "A; A" (one run on two GPUs) reads better as "2 x A"
         devs = [d.strip() for d in name.split(";") if d.strip()]

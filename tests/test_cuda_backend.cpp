@@ -40,5 +40,31 @@ TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
     }
 }
 
+// Two subdomains on the GPU(s) (one each where there are two) against one on the host.
+TEST(CudaBackend, TwoSubdomainsMatchTheHostBackend) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const Scene s = make_scene("dambreak", {{"dp", "0.02"}, {"length", "1.0"}, {"column_height", "0.6"},
+                                             {"height", "0.8"}});
+    SolverOptions host, cuda;
+    host.fixed_dt = cuda.fixed_dt = 1.4e-4;
+    cuda.backend = BackendKind::cuda;
+    cuda.subdomains = 2;
+    cuda.balancer = "threshold";
+    Simulation a(s, host), b(s, cuda);
+    for (int k = 0; k < 300; ++k) {
+        a.step();
+        b.step();
+    }
+    const SnapshotData sb = b.snapshot();
+    ASSERT_EQ(sb.id.size(), s.size()) << "particles lost or duplicated";
+    const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
+    double worst = 0;
+    for (std::size_t i = s.n_boundary; i < pa.size(); ++i)
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(pa[i][k] - pb[i][k]));
+    std::printf("cuda with 2 subdomains (%s) vs host, 300 steps: largest position difference %.3g dp\n",
+                b.device_name().c_str(), worst / s.dp);
+    EXPECT_LT(worst, 1e-3 * s.dp);
+}
+
 }  // namespace
 }  // namespace sph

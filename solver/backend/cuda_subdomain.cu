@@ -69,7 +69,7 @@ public:
         : cfg_(cfg), device_(device), stream_(create_stream(device)), clock_(stream_) {
         cudaDeviceProp prop{};
         SPH_CUDA_CHECK(cudaGetDeviceProperties(&prop, device));
-        name_ = prop.name;
+        name_ = std::string(prop.name) + " (GPU " + std::to_string(device) + ")";
         const std::uint32_t ncells = cfg.grid.cell_count();
         std::size_t sort_temp = 0;
         cub::DoubleBuffer<std::uint64_t> kb(nullptr, nullptr);
@@ -109,6 +109,7 @@ public:
         owned_[1] = ncells;
     }
     ~CudaSubdomain() override {
+        use_device();
         cudaFreeHost(host_stats_);
         if (stream_) cudaStreamDestroy(stream_);
     }
@@ -117,6 +118,7 @@ public:
     std::string device_name() const override { return name_; }
 
     void upload(const ParticleArrays& p) override {
+        use_device();
         n_ = std::uint32_t(p.size());
         if (n_ > pos_.size()) throw RunError("more particles than the CUDA subdomain was sized for");
         pos_.upload(p.pos.data(), n_, stream_);
@@ -134,6 +136,7 @@ public:
     }
 
     ParticleArrays download() override {
+        use_device();
         ParticleArrays p;
         p.pos.resize(n_);
         p.velrho.resize(n_);
@@ -150,12 +153,14 @@ public:
     }
 
     void set_owned_cells(std::uint32_t begin, std::uint32_t end) override {
+        use_device();
         const std::uint32_t ncells = cfg_.grid.cell_count();
         owned_[0] = std::min(begin, ncells);
         owned_[1] = std::min(end, ncells);
         active_stale_ = true;
     }
     ParticleArrays copy_cells(std::uint32_t begin, std::uint32_t end) override {
+        use_device();
         const auto r = cell_starts({begin, end});
         const std::uint32_t lo = r[0], m = r[1] - r[0];
         ParticleArrays p;
@@ -173,6 +178,7 @@ public:
         return p;
     }
     void keep_only_cells(std::uint32_t begin, std::uint32_t end) override {
+        use_device();
         const auto r = cell_starts({begin, end, cfg_.grid.cell_count()});
         const std::uint32_t lo = r[0], kept = r[1] - r[0], out_lo = r[2], out_n = n_ - r[2];
         // Two ranges into the spare buffers, then swap: the ranges may overlap their targets.
@@ -203,6 +209,7 @@ public:
         active_stale_ = true;
     }
     void append(const ParticleArrays& p) override {
+        use_device();
         const std::uint32_t m = std::uint32_t(p.size());
         if (n_ + m > pos_.size())
             throw RunError("subdomain on " + name_ + " would hold " + std::to_string(n_ + m) +
@@ -216,6 +223,7 @@ public:
         n_ += m;
     }
     std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) override {
+        use_device();
         std::vector<std::uint32_t> out(cells.size());
         // Slice boundaries are evenly spaced: one strided copy instead of one copy per value.
         const bool even = cells.size() > 2 && std::adjacent_find(cells.begin() + 1, cells.end(), [&](auto a, auto b) {
@@ -234,6 +242,7 @@ public:
     std::size_t size() const override { return n_; }
 
     void sort_by_cell() override {
+        use_device();
         gpu::make_sort_keys(cell_.data(), id_.data(), keys_.data(), order_.data(), n_, stream_);
         cub::DoubleBuffer<std::uint64_t> kb(keys_.data(), keys_alt_.data());
         cub::DoubleBuffer<std::uint32_t> vb(order_.data(), order_alt_.data());
@@ -248,9 +257,11 @@ public:
     }
 
     void compute_forces() override {
+        use_device();
         gpu::compute_forces(cfg_, inputs(), force_.data(), active_range(), n_, stream_);
     }
     void build_neighbour_list(real skin) override {
+        use_device();
         const real reach = cfg_.params.support + skin;
         if (list_count_.size() < n_) list_count_.allocate(n_);
         for (int attempt = 0; attempt < 2; ++attempt) {
@@ -268,20 +279,24 @@ public:
         }
     }
     void compute_forces_listed() override {
+        use_device();
         const NeighbourList list{list_index_.data(), list_count_.data(), n_};
         gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), active_range(), n_, stream_);
     }
     std::size_t neighbour_list_bytes() const override { return list_index_.bytes() + list_count_.bytes(); }
 
     void kick_drift(real half_dt, real dt) override {
+        use_device();
         gpu::kick_drift(pos_.data(), velrho_.data(), cell_.data(), force_.data(), half_dt, dt, cfg_, active_range(),
                         n_, stream_);
     }
     void kick(real half_dt) override {
+        use_device();
         gpu::kick(velrho_.data(), force_.data(), half_dt, cfg_.params, active_range(), n_, stream_);
     }
 
     StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
+        use_device();
         gpu::reduce_stats(velrho_.data(), force_.data(), id_.data(), active_range(), half_dt, cfg_.params, limits, n_,
                           temp_.data(), temp_bytes_, stats_.data(), stream_);
         stats_.download(host_stats_, 1, stream_);
@@ -290,6 +305,7 @@ public:
     }
 
     WorkCounters count_work() override {
+        use_device();
         gpu::count_work(cfg_, inputs(), active_range(), n_, counters_.data(), stream_);
         unsigned long long c[3];
         counters_.download(c, 3, stream_);
@@ -298,6 +314,7 @@ public:
     }
 
     std::size_t active_count() const override {
+        use_device();
         if (active_stale_) {
             std::uint32_t r[2];
             SPH_CUDA_CHECK(cudaMemcpyAsync(&r[0], cell_start_.data() + owned_[0], 4, cudaMemcpyDeviceToHost, stream_));
@@ -318,6 +335,9 @@ private:
         return {pos_.data(), velrho_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
     }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
+    // Subdomains of one run live on different GPUs and share the host thread: every entry
+    // point makes its GPU current first (cheap when it already is).
+    void use_device() const { SPH_CUDA_CHECK(cudaSetDevice(device_)); }
     static cudaStream_t create_stream(int device) {
         SPH_CUDA_CHECK(cudaSetDevice(device));
         cudaStream_t s = nullptr;
