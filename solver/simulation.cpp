@@ -144,6 +144,14 @@ const StepRecord& Simulation::step() {
     const int count = int(subdomains_.size());
     record_.slices_moved = 0;
     record_.exchange = {};
+    if (slabs_) {
+        // Ghosts are refreshed later in the step; dropping the stale ones first (a move on the
+        // device) means only particles that really left a slab travel through migration.
+        ScopedPhase ph(host_clock_, Phase::migrate, n, 0);
+        for (int d = 0; d < count; ++d)
+            subdomains_[d]->keep_only_cells(exchange_->first_cell(exchanged_for_->begin(d)),
+                                            exchange_->first_cell(exchanged_for_->end(d)));
+    }
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(subdomains_[d]->clock(), Phase::integrate, n, d);
         subdomains_[d]->kick_drift(half, real(dt));

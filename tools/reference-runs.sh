@@ -22,8 +22,10 @@ single)
 multi)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
   nvidia-smi topo -m | tee "$out/topology.txt"
-  sph_tests --gtest_filter='CudaBackend.*' 2>&1 | grep -E 'cuda |OK|FAILED|PASSED' | tee "$out/cuda_vs_host.txt"
-  grep -q PASSED "$out/cuda_vs_host.txt" || { echo "reference-runs: the CUDA tests failed; not running the experiment"; exit 1; }
+  sph_tests --gtest_filter='CudaBackend.*' >"$out/cuda_tests.log" 2>&1
+  ok=$?
+  grep -E 'cuda |OK|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_vs_host.txt"
+  [ $ok -eq 0 ] || { echo "reference-runs: the CUDA tests failed; not running the experiment"; exit 1; }
   sphbench run experiments/multi-gpu.toml --backend cuda --out "$out" --force --quiet
   ;;
 esac

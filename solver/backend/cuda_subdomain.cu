@@ -15,14 +15,18 @@ namespace {
 // CUDA events on the subdomain's stream; a pool reused every step.
 class CudaPhaseClock final : public PhaseClock {
 public:
-    explicit CudaPhaseClock(cudaStream_t s) : stream_(s) {}
+    // Events belong to the GPU that was current when they were made: the clock makes its
+    // subdomain's GPU current before touching them.
+    CudaPhaseClock(cudaStream_t s, int device) : stream_(s), device_(device) {}
     ~CudaPhaseClock() override {
+        cudaSetDevice(device_);
         for (auto& m : marks_) {
             cudaEventDestroy(m.begin);
             cudaEventDestroy(m.end);
         }
     }
     void begin(Phase p) override {
+        SPH_CUDA_CHECK(cudaSetDevice(device_));
         if (used_ == marks_.size()) {
             Mark m{};
             SPH_CUDA_CHECK(cudaEventCreate(&m.begin));
@@ -33,10 +37,12 @@ public:
         SPH_CUDA_CHECK(cudaEventRecord(marks_[used_].begin, stream_));
     }
     void end(Phase) override {
+        SPH_CUDA_CHECK(cudaSetDevice(device_));
         SPH_CUDA_CHECK(cudaEventRecord(marks_[used_].end, stream_));
         ++used_;
     }
     PhaseTimes collect() override {
+        SPH_CUDA_CHECK(cudaSetDevice(device_));
         PhaseTimes t{};
         if (used_ > 0) SPH_CUDA_CHECK(cudaEventSynchronize(marks_[used_ - 1].end));
         for (std::size_t k = 0; k < used_; ++k) {
@@ -54,8 +60,32 @@ private:
         Phase phase;
     };
     cudaStream_t stream_;
+    int device_;
     std::vector<Mark> marks_;
     std::size_t used_ = 0;
+};
+
+// Page-locked host memory for transfers between subdomains, grown as needed.
+class PinnedStaging {
+public:
+    ~PinnedStaging() {
+        if (ptr_) cudaFreeHost(ptr_);
+    }
+    // Room for m particles of the transfer layout (two real4 and two uint32 arrays).
+    real4* particles(std::size_t m) {
+        const std::size_t need = m * (2 * sizeof(real4) + 2 * sizeof(std::uint32_t));
+        if (need > bytes_) {
+            if (ptr_) SPH_CUDA_CHECK(cudaFreeHost(ptr_));
+            ptr_ = nullptr;
+            bytes_ = need + need / 2;
+            SPH_CUDA_CHECK(cudaMallocHost(&ptr_, bytes_));
+        }
+        return static_cast<real4*>(ptr_);
+    }
+
+private:
+    void* ptr_ = nullptr;
+    std::size_t bytes_ = 0;
 };
 
 // Bytes per particle of the buffers below (what the memory estimate and the report use).
@@ -66,7 +96,7 @@ constexpr std::size_t bytes_per_particle =
 class CudaSubdomain final : public Subdomain {
 public:
     CudaSubdomain(const SubdomainConfig& cfg, std::size_t capacity, int device)
-        : cfg_(cfg), device_(device), stream_(create_stream(device)), clock_(stream_) {
+        : cfg_(cfg), device_(device), stream_(create_stream(device)), clock_(stream_, device) {
         cudaDeviceProp prop{};
         SPH_CUDA_CHECK(cudaGetDeviceProperties(&prop, device));
         name_ = std::string(prop.name) + " (GPU " + std::to_string(device) + ")";
@@ -164,17 +194,21 @@ public:
         const auto r = cell_starts({begin, end});
         const std::uint32_t lo = r[0], m = r[1] - r[0];
         ParticleArrays p;
-        p.pos.resize(m);
-        p.velrho.resize(m);
-        p.cell.resize(m);
-        p.id.resize(m);
-        if (m > 0) {
-            SPH_CUDA_CHECK(cudaMemcpyAsync(p.pos.data(), pos_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
-            SPH_CUDA_CHECK(cudaMemcpyAsync(p.velrho.data(), velrho_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
-            SPH_CUDA_CHECK(cudaMemcpyAsync(p.cell.data(), cell_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
-            SPH_CUDA_CHECK(cudaMemcpyAsync(p.id.data(), id_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
-            SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
-        }
+        if (m == 0) return p;
+        // Through pinned memory: pageable transfers run at a fraction of the bus speed.
+        auto* pos = staging_.particles(m);
+        auto* velrho = pos + m;
+        auto* cell = reinterpret_cast<std::uint32_t*>(velrho + m);
+        auto* id = cell + m;
+        SPH_CUDA_CHECK(cudaMemcpyAsync(pos, pos_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(velrho, velrho_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(cell, cell_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(id, id_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        p.pos.assign(pos, pos + m);
+        p.velrho.assign(velrho, velrho + m);
+        p.cell.assign(cell, cell + m);
+        p.id.assign(id, id + m);
         return p;
     }
     void keep_only_cells(std::uint32_t begin, std::uint32_t end) override {
@@ -190,6 +224,7 @@ public:
         };
         move(pos_, pos_alt_);
         move(velrho_, velrho_alt_);
+        move(force_, pos_alt_);  // the next kick reads the forces of the kept particles
         // cell and id have no spare of their own: the sort's key buffers serve (8 bytes each).
         auto* cell_spare = reinterpret_cast<std::uint32_t*>(keys_alt_.data());
         auto* id_spare = cell_spare + pos_.size();
@@ -202,6 +237,11 @@ public:
             SPH_CUDA_CHECK(cudaMemcpyAsync(id_spare + kept, id_.data() + out_lo, out_n * 4, cudaMemcpyDeviceToDevice, stream_));
         }
         n_ = kept + out_n;
+        // Until the next sort, the kept cells' particles are [0, kept): the active range of
+        // kernels launched before that sort (the kick after ghosts were dropped) reads these.
+        const std::uint32_t bounds[2] = {0, kept};
+        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + begin, &bounds[0], 4, cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + end, &bounds[1], 4, cudaMemcpyHostToDevice, stream_));
         if (n_) {
             SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data(), cell_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
             SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data(), id_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
@@ -215,11 +255,19 @@ public:
             throw RunError("subdomain on " + name_ + " would hold " + std::to_string(n_ + m) +
                            " particles, more than the " + std::to_string(pos_.size()) + " it was sized for");
         if (m == 0) return;
-        SPH_CUDA_CHECK(cudaMemcpyAsync(pos_.data() + n_, p.pos.data(), m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(velrho_.data() + n_, p.velrho.data(), m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data() + n_, p.cell.data(), m * 4, cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data() + n_, p.id.data(), m * 4, cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the host arrays may go away
+        auto* pos = staging_.particles(m);
+        auto* velrho = pos + m;
+        auto* cell = reinterpret_cast<std::uint32_t*>(velrho + m);
+        auto* id = cell + m;
+        std::copy(p.pos.begin(), p.pos.end(), pos);
+        std::copy(p.velrho.begin(), p.velrho.end(), velrho);
+        std::copy(p.cell.begin(), p.cell.end(), cell);
+        std::copy(p.id.begin(), p.id.end(), id);
+        SPH_CUDA_CHECK(cudaMemcpyAsync(pos_.data() + n_, pos, m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(velrho_.data() + n_, velrho, m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data() + n_, cell, m * 4, cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data() + n_, id, m * 4, cudaMemcpyHostToDevice, stream_));
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the staging buffer is reused
         n_ += m;
     }
     std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) override {
@@ -359,6 +407,7 @@ private:
     DeviceBuffer<std::uint32_t> list_index_, list_count_, counters32_{1};
     std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
+    PinnedStaging staging_;
     std::size_t temp_bytes_ = 0;
     int key_bits_ = 64;
     std::uint32_t n_ = 0;

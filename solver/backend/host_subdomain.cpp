@@ -55,7 +55,8 @@ public:
         keep(a_.velrho);
         keep(a_.cell);
         keep(a_.id);
-        a_.force.resize(a_.size());
+        keep(a_.force);  // the next kick reads the forces of the kept particles
+        update_owned_range_after_keep(hi - lo);
     }
     void append(const ParticleArrays& p) override {
         a_.pos.insert(a_.pos.end(), p.pos.begin(), p.pos.end());
@@ -212,6 +213,11 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
+    // After keep_only_cells the owned particles, still in cell order, start at 0.
+    void update_owned_range_after_keep(std::size_t kept) {
+        owned_lo_ = 0;
+        owned_hi_ = kept;
+    }
     void update_owned_range() {
         const std::uint32_t ncells = cfg_.grid.cell_count();
         owned_lo_ = cell_start_[std::min(owned_cells_[0], ncells)];
