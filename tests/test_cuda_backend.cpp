@@ -11,8 +11,7 @@ namespace {
 
 TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
-    const Scene s = make_scene("dambreak", {{"dp", "0.02"}, {"length", "1.0"}, {"column_height", "0.6"},
-                                             {"height", "0.8"}});
+    const Scene s = test::small_dambreak("0.02");
     for (const SearchOptions search : {SearchOptions{1, false}, SearchOptions{2, true}}) {
         SolverOptions host, cuda;
         host.search = cuda.search = search;
@@ -43,8 +42,7 @@ TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
 // Two subdomains on the GPU(s) (one each where there are two) against one on the host.
 TEST(CudaBackend, TwoSubdomainsMatchTheHostBackend) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
-    const Scene s = make_scene("dambreak", {{"dp", "0.02"}, {"length", "1.0"}, {"column_height", "0.6"},
-                                             {"height", "0.8"}});
+    const Scene s = test::small_dambreak("0.02");
     SolverOptions host, cuda;
     host.fixed_dt = cuda.fixed_dt = 1.4e-4;
     cuda.backend = BackendKind::cuda;

@@ -8,10 +8,6 @@
 namespace sph {
 namespace {
 
-Scene small_dambreak() {
-    return make_scene("dambreak", {{"dp", "0.04"}, {"length", "1.0"}, {"column_height", "0.6"}, {"height", "0.8"}});
-}
-
 void expect_each_particle_once(const SnapshotData& s, std::size_t total, long step) {
     std::set<std::uint32_t> ids(s.id.begin(), s.id.end());
     ASSERT_EQ(s.id.size(), total) << "step " << step << ": particles lost or duplicated";
@@ -32,7 +28,7 @@ class MultiDevice : public ::testing::TestWithParam<MultiCase> {};
 // is bitwise the same, not just within float tolerance.
 TEST_P(MultiDevice, MatchesOneSubdomainBitwise) {
     const MultiCase mc = GetParam();
-    const Scene s = small_dambreak();
+    const Scene s = test::small_dambreak("0.04");
     SolverOptions one, many;
     one.search = many.search = SearchOptions{mc.cells_per_support, mc.merge};
     many.subdomains = mc.subdomains;
@@ -72,7 +68,7 @@ TEST(MultiDeviceErrors, TooManySubdomainsForTheGridIsAClearError) {
     SolverOptions o;
     o.subdomains = 500;
     try {
-        Simulation sim(small_dambreak(), o);
+        Simulation sim(test::small_dambreak("0.04"), o);
         FAIL();
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("500"), std::string::npos) << e.what();
@@ -83,7 +79,7 @@ TEST(MultiDeviceErrors, UnknownBalancerIsRefusedByName) {
     SolverOptions o;
     o.subdomains = 2;
     o.balancer = "greedy";
-    EXPECT_THROW(Simulation(small_dambreak(), o), InputError);
+    EXPECT_THROW(Simulation(test::small_dambreak("0.04"), o), InputError);
 }
 
 }  // namespace

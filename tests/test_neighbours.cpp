@@ -102,8 +102,7 @@ namespace {
 // A run of N steps with any strategy gives the same particles as traditional CLL: the same
 // neighbour set, visited in another order, so only float rounding differs.
 TEST(SearchStrategies, RunsAgreeWithTraditionalCll) {
-    const Scene s = make_scene("dambreak", {{"dp", "0.04"}, {"length", "1.0"}, {"column_height", "0.6"},
-                                             {"height", "0.8"}});
+    const Scene s = test::small_dambreak("0.04");
     auto run = [&](SearchOptions search) {
         SolverOptions o;
         o.search = search;
@@ -132,8 +131,7 @@ TEST(SearchStrategies, RunsAgreeWithTraditionalCll) {
 }
 
 TEST(SearchStrategies, VerletListsRebuildOnDisplacementAndHoldEveryNeighbour) {
-    const Scene s = make_scene("dambreak", {{"dp", "0.04"}, {"length", "1.0"}, {"column_height", "0.6"},
-                                             {"height", "0.8"}});
+    const Scene s = test::small_dambreak("0.04");
     SolverOptions o;
     o.search.verlet = true;
     Simulation sim(s, o);

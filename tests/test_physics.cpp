@@ -135,8 +135,7 @@ TEST(Hydrostatics, TankSettlesToRhoGH) {
 }
 
 TEST(Precision, ShiftingTheSceneFarFromTheOriginGivesTheSameMotion) {
-    const Scene base = make_scene("dambreak", {{"dp", "0.04"}, {"length", "1.0"}, {"column_height", "0.6"},
-                                                {"height", "0.8"}});
+    const Scene base = test::small_dambreak("0.04");
     Scene far = base;
     const double shift = 1e4 * base.dp;
     for (auto& p : far.position) p = {p[0] + shift, p[1] + shift, p[2] + shift};
@@ -162,8 +161,7 @@ TEST(Precision, ShiftingTheSceneFarFromTheOriginGivesTheSameMotion) {
 }
 
 TEST(Failure, BlowUpIsCaughtWithinAStepNamingStepAndParticle) {
-    const Scene s = make_scene("dambreak", {{"dp", "0.05"}, {"length", "1.0"}, {"column_height", "0.6"},
-                                             {"height", "0.8"}});
+    const Scene s = test::small_dambreak("0.05");
     SolverOptions opt;
     opt.fixed_dt = 0.02;  // far beyond the CFL limit
     Simulation sim(s, opt);

@@ -37,6 +37,11 @@ inline Scene random_scene(std::size_t n, std::size_t n_boundary, double side, do
     return s;
 }
 
+// A small dam break (a 0.6 m column in a 1.0 x 0.2 x 0.8 m tank) at spacing dp.
+inline Scene small_dambreak(const char* dp) {
+    return make_scene("dambreak", {{"dp", dp}, {"length", "1.0"}, {"column_height", "0.6"}, {"height", "0.8"}});
+}
+
 // Absolute positions of a snapshot, indexed by particle id.
 inline std::vector<std::array<double, 3>> positions_by_id(const SnapshotData& s) {
     std::vector<std::array<double, 3>> out(s.id.size());
