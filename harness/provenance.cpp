@@ -45,11 +45,10 @@ BuildInfo build_info() {
     BuildInfo b;
     const char* env_commit = std::getenv("SPH_GIT_COMMIT");
     const char* env_dirty = std::getenv("SPH_GIT_DIRTY");
-    b.git_commit = env_commit ? env_commit : git("rev-parse HEAD");
-    if (b.git_commit.empty()) b.git_commit = SPH_GIT_COMMIT;
+    const std::string live = env_commit ? "" : git("rev-parse HEAD");
+    b.git_commit = env_commit ? env_commit : (live.empty() ? SPH_GIT_COMMIT : live);
     if (env_dirty) b.git_dirty = env_dirty;
-    else if (env_commit == nullptr && b.git_commit != SPH_GIT_COMMIT)
-        b.git_dirty = git("status --porcelain --untracked-files=no").empty() ? "clean" : "dirty";
+    else if (!live.empty()) b.git_dirty = git("status --porcelain --untracked-files=no").empty() ? "clean" : "dirty";
     else b.git_dirty = SPH_GIT_DIRTY;
     b.build_type = SPH_BUILD_TYPE;
     b.flags = SPH_BUILD_FLAGS;
