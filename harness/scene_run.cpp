@@ -8,6 +8,7 @@
 
 #include "io/csv_writer.hpp"
 #include "progress.hpp"
+#include "search_calibration.hpp"
 
 namespace sph {
 
@@ -86,7 +87,20 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
     res.boundary = scene.n_boundary;
     res.dp = scene.dp;
     res.scene_settings = scene.settings;
-    Simulation sim(scene, req.solver);
+    SolverOptions solver = req.solver;
+    if (req.calibrate_search) {
+        const Calibration cal = calibrate_search(scene, solver);
+        solver.search = cal.best;
+        char line[96];
+        for (const auto& t : cal.trials) {
+            std::snprintf(line, sizeof line, "%sn%d%s=%.3fms", res.search_choice.empty() ? "" : " ",
+                          t.search.cells_per_support, t.search.merge ? "m" : "", t.median_step_ms);
+            res.search_choice += line;
+        }
+        std::snprintf(line, sizeof line, "chose n%d%s; ", cal.best.cells_per_support, cal.best.merge ? "m" : "");
+        res.search_choice = line + res.search_choice;
+    }
+    Simulation sim(scene, solver);
     res.device = sim.device_name();
     res.bytes_allocated = sim.bytes_allocated();
 
@@ -147,6 +161,7 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         for (const auto& [k, v] : res.scene_settings) meta.emplace_back("scene." + k, v);
         meta.emplace_back("particles", std::to_string(res.particles));
         meta.emplace_back("device", res.device);
+        if (!res.search_choice.empty()) meta.emplace_back("search_calibration", res.search_choice);
         const std::string path = (fs::path(req.out_dir) / (req.basename + "_steps.csv")).string();
         CsvWriter csv(path, step_csv_columns(), meta);
         for (const auto& r : res.steps) csv.row(step_csv_row(r, res));

@@ -22,6 +22,7 @@ struct SceneRunRequest {
     std::string basename;         // file stem of this run's outputs
     bool write_step_csv = true;
     bool progress = true;
+    bool calibrate_search = false;  // time every search strategy first and run the fastest
     Metadata metadata;            // provenance lines for every file
 };
 
@@ -40,6 +41,7 @@ struct SceneRunResult {
     double wall_seconds = 0;
     std::vector<std::string> files;  // what was written
     std::map<std::string, std::string> scene_settings;
+    std::string search_choice;  // what calibration picked, with every trial's time
 };
 
 // Throws InputError for bad input and RunError (BlowUpError) when the run fails; on a

@@ -17,6 +17,7 @@ struct SimulateArgs {
     long steps = 100, warmup = 10, snapshot_every = 0;
     std::string out = "results/simulate";
     bool quiet = false;
+    bool auto_search = false;
     SolverCli solver;
 };
 
@@ -47,6 +48,7 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
                     pairs, pairs / double(r.particles), pairs / (fo.median * 1e-3));
     if (last.out_of_domain > 0)
         std::printf("warning: %zu fluid particles left the domain and were dropped\n", last.out_of_domain);
+    if (!r.search_choice.empty()) std::printf("search calibration (median step): %s\n", r.search_choice.c_str());
     for (const auto& f : r.files) std::printf("wrote %s\n", f.c_str());
 }
 
@@ -65,6 +67,9 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--out", args->out, "output folder")->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "no progress line");
+    cmd->add_flag("--auto-search", args->auto_search,
+                  "time every search strategy for a few steps first and run the fastest (overrides --merge and "
+                  "--cells-per-support)");
     add_solver_options(*cmd, args->solver);
     cmd->callback([args, &ctx] {
         SceneRunRequest req;
@@ -77,6 +82,7 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         req.out_dir = args->out;
         req.basename = args->scene;
         req.progress = !args->quiet;
+        req.calibrate_search = args->auto_search;
         req.metadata = provenance(backend_name(req.solver.backend),
                                   req.solver.backend == BackendKind::cuda ? cuda_device_summary() : "host",
                                   command_line_of(ctx.argc, ctx.argv));

@@ -17,6 +17,14 @@ single)
     echo "== sphbench simulate $args" | tee -a "$out/benchmarks.txt"
     sphbench simulate $args --steps 300 --warmup 20 --backend cuda --quiet --out "$out/simulate" 2>&1 | tee -a "$out/benchmarks.txt"
   done
+  [ -x "$(command -v sph_bench)" ] && sph_bench --benchmark_format=json --benchmark_out="$out/force_loop_bench.json" \
+    --benchmark_min_time=0.5 2>&1 | tail -12 | tee "$out/force_loop_bench.txt"
+  for args in "armadillo --set particles=2980000" "bunny --set particles=3049000" "dsph-dambreak"; do
+    echo "== sphbench simulate $args --auto-search" | tee -a "$out/calibration.txt"
+    sphbench simulate $args --auto-search --steps 100 --warmup 10 --backend cuda --quiet --out "$out/simulate" 2>&1 |
+      grep -E 'scene|time per step|calibration' | tee -a "$out/calibration.txt"
+  done
+  [ "${SKIP_FIGURES:-0}" = 1 ] && exit 0
   for spec in fig4 cll-vs-vl fig3; do sphbench run experiments/$spec.toml --backend cuda --out "$out" --force --quiet; done
   ;;
 multi)
