@@ -139,7 +139,7 @@ public:
         owned_[1] = ncells;
     }
     ~CudaSubdomain() override {
-        use_device();
+        cudaSetDevice(device_);  // unchecked: a destructor must not throw (the driver may be shutting down)
         cudaFreeHost(host_stats_);
         if (stream_) cudaStreamDestroy(stream_);
     }
