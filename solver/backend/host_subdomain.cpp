@@ -22,7 +22,6 @@ public:
         a_ = p;
         a_.force.assign(p.size(), real4{0, 0, 0, 0});
         if (!p.force.empty()) a_.force = p.force;
-        n_active_ = p.size();
         owned_lo_ = 0;
         owned_hi_ = p.size();
     }
@@ -92,7 +91,6 @@ public:
             while (j < n && a_.cell[j] < c) ++j;
             cell_start_[c] = j;
         }
-        n_active_ = cell_start_[ncells];
         update_owned_range();
     }
 
@@ -242,7 +240,7 @@ private:
     std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;
     std::vector<unsigned char> scratch_;
-    std::size_t n_active_ = 0, owned_lo_ = 0, owned_hi_ = 0;
+    std::size_t owned_lo_ = 0, owned_hi_ = 0;
     std::uint32_t owned_cells_[2] = {0, 0xffffffffu};
     SteadyPhaseClock clock_;
 };

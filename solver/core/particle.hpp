@@ -27,6 +27,4 @@ SPH_HD real4 make_velrho(real3 v, real rho, bool boundary) {
 constexpr std::uint32_t ghost_id_flag = 0x80000000u;
 SPH_HD bool is_ghost_id(std::uint32_t id) { return (id & ghost_id_flag) != 0; }
 
-enum class ParticleType : std::uint8_t { fluid = 0, boundary = 1 };
-
 }  // namespace sph
