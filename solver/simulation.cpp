@@ -153,7 +153,7 @@ const StepRecord& Simulation::step() {
                                             exchange_->first_cell(exchanged_for_->end(d)));
     }
     for (int d = 0; d < count; ++d) {
-        ScopedPhase ph(subdomains_[d]->clock(), Phase::integrate, n, d);
+        ScopedPhase ph(clock(d), Phase::integrate, n, d);
         subdomains_[d]->kick_drift(half, real(dt));
     }
     if (balancer_) {
@@ -163,7 +163,7 @@ const StepRecord& Simulation::step() {
     const bool verlet = options_.search.verlet;
     if (!verlet || verlet_list_expired(dt)) {
         for (int d = 0; d < count; ++d) {
-            ScopedPhase ph(subdomains_[d]->clock(), Phase::neighbour_list, n, d);
+            ScopedPhase ph(clock(d), Phase::neighbour_list, n, d);
             subdomains_[d]->sort_by_cell();
             if (verlet) {
                 subdomains_[d]->build_neighbour_list(verlet_skin());
@@ -176,12 +176,12 @@ const StepRecord& Simulation::step() {
     ++steps_since_build_;
     if (slabs_) exchange_particles(n, host_clock_);
     for (int d = 0; d < count; ++d) {
-        ScopedPhase ph(subdomains_[d]->clock(), Phase::forces, n, d);
+        ScopedPhase ph(clock(d), Phase::forces, n, d);
         verlet ? subdomains_[d]->compute_forces_listed() : subdomains_[d]->compute_forces();
     }
     StepStats stats;
     for (int d = 0; d < count; ++d) {
-        ScopedPhase ph(subdomains_[d]->clock(), Phase::diagnostics, n, d);
+        ScopedPhase ph(clock(d), Phase::diagnostics, n, d);
         stats = merge_stats(stats, subdomains_[d]->reduce_stats(half, limits_));
     }
     if (stats.bad_id != 0xffffffffu) {
@@ -196,7 +196,7 @@ const StepRecord& Simulation::step() {
         throw BlowUpError(m.str(), std::move(last));
     }
     for (int d = 0; d < count; ++d) {
-        ScopedPhase ph(subdomains_[d]->clock(), Phase::integrate, n, d);
+        ScopedPhase ph(clock(d), Phase::integrate, n, d);
         subdomains_[d]->kick(half);
     }
     // The step's wall time per compute phase is the slowest subdomain's (paper: real wall time).
@@ -204,7 +204,7 @@ const StepRecord& Simulation::step() {
     record_.subdomain_particles.assign(count, 0);
     record_.phase_ms.fill(0);
     for (int d = 0; d < count; ++d) {
-        record_.subdomain_ms[d] = subdomains_[d]->clock().collect();
+        record_.subdomain_ms[d] = clock(d).collect();
         record_.subdomain_particles[d] = count > 1 ? subdomains_[d]->active_count() : stats.fluid_count;
         for (std::size_t p = 0; p < phase_count; ++p)
             record_.phase_ms[p] = std::max(record_.phase_ms[p], record_.subdomain_ms[d][p]);
