@@ -45,6 +45,8 @@ std::vector<double> metric_series(const SceneRunResult& r, const std::string& me
             double total = 0;
             for (double t : s.phase_ms) total += t;
             out.push_back(total);
+        } else if (metric == "wall_ms") {
+            out.push_back(s.wall_ms);
         } else {
             for (std::size_t p = 0; p < phase_count; ++p)
                 if (metric == std::string(phase_names[p]) + "_ms") out.push_back(s.phase_ms[p]);
@@ -56,7 +58,7 @@ std::vector<double> metric_series(const SceneRunResult& r, const std::string& me
 }  // namespace
 
 std::vector<std::string> time_metrics() {
-    std::vector<std::string> m = {"update_ms", "update_ideal_ms", "step_ms"};
+    std::vector<std::string> m = {"update_ms", "update_ideal_ms", "step_ms", "wall_ms"};
     for (const char* p : phase_names) m.push_back(std::string(p) + "_ms");
     return m;
 }

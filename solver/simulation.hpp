@@ -43,6 +43,7 @@ struct StepRecord {
     std::size_t out_of_domain = 0;
     int slices_moved = 0;
     ExchangeCounters exchange;
+    double wall_ms = 0;  // host wall clock of the whole step
 
     // The paper's real wall time of the update: the slowest subdomain's forces + integration.
     double update_ms() const {
