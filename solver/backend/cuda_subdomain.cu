@@ -7,86 +7,12 @@
 #include <vector>
 
 #include "backend/cuda_drivers.cuh"
+#include "backend/cuda_phase_clock.cuh"
 #include "backend/device_buffer.cuh"
+#include "backend/pinned_staging.cuh"
 
 namespace sph {
 namespace {
-
-// CUDA events on the subdomain's stream; a pool reused every step.
-class CudaPhaseClock final : public PhaseClock {
-public:
-    // Events belong to the GPU that was current when they were made: the clock makes its
-    // subdomain's GPU current before touching them.
-    CudaPhaseClock(cudaStream_t s, int device) : stream_(s), device_(device) {}
-    ~CudaPhaseClock() override {
-        cudaSetDevice(device_);
-        for (auto& m : marks_) {
-            cudaEventDestroy(m.begin);
-            cudaEventDestroy(m.end);
-        }
-    }
-    void begin(Phase p) override {
-        SPH_CUDA_CHECK(cudaSetDevice(device_));
-        if (used_ == marks_.size()) {
-            Mark m{};
-            SPH_CUDA_CHECK(cudaEventCreate(&m.begin));
-            SPH_CUDA_CHECK(cudaEventCreate(&m.end));
-            marks_.push_back(m);
-        }
-        marks_[used_].phase = p;
-        SPH_CUDA_CHECK(cudaEventRecord(marks_[used_].begin, stream_));
-    }
-    void end(Phase) override {
-        SPH_CUDA_CHECK(cudaSetDevice(device_));
-        SPH_CUDA_CHECK(cudaEventRecord(marks_[used_].end, stream_));
-        ++used_;
-    }
-    PhaseTimes collect() override {
-        SPH_CUDA_CHECK(cudaSetDevice(device_));
-        PhaseTimes t{};
-        if (used_ > 0) SPH_CUDA_CHECK(cudaEventSynchronize(marks_[used_ - 1].end));
-        for (std::size_t k = 0; k < used_; ++k) {
-            float ms = 0;
-            SPH_CUDA_CHECK(cudaEventElapsedTime(&ms, marks_[k].begin, marks_[k].end));
-            t[std::size_t(marks_[k].phase)] += ms;
-        }
-        used_ = 0;
-        return t;
-    }
-
-private:
-    struct Mark {
-        cudaEvent_t begin, end;
-        Phase phase;
-    };
-    cudaStream_t stream_;
-    int device_;
-    std::vector<Mark> marks_;
-    std::size_t used_ = 0;
-};
-
-// Page-locked host memory for transfers between subdomains, grown as needed.
-class PinnedStaging {
-public:
-    ~PinnedStaging() {
-        if (ptr_) cudaFreeHost(ptr_);
-    }
-    // Room for m particles of the transfer layout (two real4 and two uint32 arrays).
-    real4* particles(std::size_t m) {
-        const std::size_t need = m * (2 * sizeof(real4) + 2 * sizeof(std::uint32_t));
-        if (need > bytes_) {
-            if (ptr_) SPH_CUDA_CHECK(cudaFreeHost(ptr_));
-            ptr_ = nullptr;
-            bytes_ = need + need / 2;
-            SPH_CUDA_CHECK(cudaMallocHost(&ptr_, bytes_));
-        }
-        return static_cast<real4*>(ptr_);
-    }
-
-private:
-    void* ptr_ = nullptr;
-    std::size_t bytes_ = 0;
-};
 
 // Bytes per particle of the buffers below (what the memory estimate and the report use).
 constexpr std::size_t bytes_per_particle =
@@ -196,10 +122,7 @@ public:
         ParticleArrays p;
         if (m == 0) return p;
         // Through pinned memory: pageable transfers run at a fraction of the bus speed.
-        auto* pos = staging_.particles(m);
-        auto* velrho = pos + m;
-        auto* cell = reinterpret_cast<std::uint32_t*>(velrho + m);
-        auto* id = cell + m;
+        const auto [pos, velrho, cell, id] = staging_.particles(m);
         SPH_CUDA_CHECK(cudaMemcpyAsync(pos, pos_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
         SPH_CUDA_CHECK(cudaMemcpyAsync(velrho, velrho_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
         SPH_CUDA_CHECK(cudaMemcpyAsync(cell, cell_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
@@ -255,10 +178,7 @@ public:
             throw RunError("subdomain on " + name_ + " would hold " + std::to_string(n_ + m) +
                            " particles, more than the " + std::to_string(pos_.size()) + " it was sized for");
         if (m == 0) return;
-        auto* pos = staging_.particles(m);
-        auto* velrho = pos + m;
-        auto* cell = reinterpret_cast<std::uint32_t*>(velrho + m);
-        auto* id = cell + m;
+        const auto [pos, velrho, cell, id] = staging_.particles(m);
         std::copy(p.pos.begin(), p.pos.end(), pos);
         std::copy(p.velrho.begin(), p.velrho.end(), velrho);
         std::copy(p.cell.begin(), p.cell.end(), cell);
