@@ -16,7 +16,7 @@ if [ ${#need_apt[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_apt[@]}" >/dev/null
 fi
 
-PY=${PYTHON:-python3}
+PY=${PYTHON:-python3}  # the same interpreter the Makefile gives CMake for the plot tests
 missing_py=()
 for mod in numpy matplotlib pandas h5py; do
   $PY -c "import $mod" 2>/dev/null || missing_py+=("$mod")
