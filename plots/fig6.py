@@ -45,6 +45,12 @@ def grouped_bars(ax, t, columns, colours):
     return [n for n in counts if np.isfinite(t[t.devices == n][columns[0][0]].to_numpy(dtype=float)).any()]
 
 
+def linear_lines(ax, counts, colours, label):
+    """A dashed line at each device count n: the linear speedup a run of n devices could reach."""
+    for k, n in enumerate(counts):
+        ax.axhline(n, ls="--", lw=0.9, color=colours[k % len(colours)], label=label.format(n=n))
+
+
 def main(argv=None):
     args = sphplot.parse_args(NAME, __doc__.split("\n\n")[0], argv, experiment=multigpu.EXPERIMENT)
     table, _, meta, label, _ = multigpu.load(args.results)
@@ -56,8 +62,7 @@ def main(argv=None):
     sphplot.apply_style()
     fig, ax = plt.subplots(figsize=(8.0, 4.4))
     counts = grouped_bars(ax, t, [("speedup", "real speedup")], ["#1b9e77", "#d95f02", "#7570b3"])
-    for k, n in enumerate(counts):
-        ax.axhline(n, ls="--", lw=0.9, color=["#1b9e77", "#d95f02", "#7570b3"][k % 3], label=f"linear: {n}")
+    linear_lines(ax, counts, ["#1b9e77", "#d95f02", "#7570b3"], "linear: {n}")
     ax.set_ylim(0, 1.15 * max(counts + [2]))
     ax.set_ylabel("speedup T$_1$ / T$_n$ (update time)")
     if ax.get_legend_handles_labels()[0]:  # none when no run is allowed a speedup

@@ -37,8 +37,7 @@ def main(argv=None):
     fig, ax = plt.subplots(figsize=(8.5, 4.4))
     counts = fig6.grouped_bars(ax, t, [("speedup", "real"), ("ideal_eq7", "ideal (eq. 7)"),
                                        ("ideal_t1", "T$_1$ / T$_{ideal}$")], COLOURS)
-    for i, n in enumerate(counts):
-        ax.axhline(n, ls="--", lw=0.9, color=COLOURS[i % 3], label=f"n = {n}")
+    fig6.linear_lines(ax, counts, COLOURS, "n = {n}")
     top = np.nanmax(t[["speedup", "ideal_eq7", "ideal_t1"]].to_numpy(dtype=float), initial=0)
     ax.set_ylim(0, 1.15 * max(counts + [2, float(top)]))
     ax.set_ylabel("speedup")

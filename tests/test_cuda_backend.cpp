@@ -19,17 +19,10 @@ TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
         cuda.backend = BackendKind::cuda;
         Simulation a(s, host), b(s, cuda);
         const int steps = 400;
-        for (int k = 0; k < steps; ++k) {
-            a.step();
-            b.step();
-        }
+        test::step_both(a, b, steps);
         const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
-        double worst = 0, moved = 0;
-        for (std::size_t i = s.n_boundary; i < pa.size(); ++i)
-            for (int k = 0; k < 3; ++k) {
-                worst = std::max(worst, std::abs(pa[i][k] - pb[i][k]));
-                moved = std::max(moved, std::abs(pa[i][k] - s.position[i][k]));
-            }
+        const double worst = test::largest_fluid_difference(pa, pb, s.n_boundary);
+        const double moved = test::largest_fluid_difference(s.position, pa, s.n_boundary);
         // Same summation order on both; only fused multiply-adds on the GPU round differently.
         std::printf("cuda vs host, n = %d, merge = %d, %d steps: largest position difference %.3g dp "
                     "(largest displacement %.3g dp)\n",
@@ -49,16 +42,11 @@ TEST(CudaBackend, TwoSubdomainsMatchTheHostBackend) {
     cuda.subdomains = 2;
     cuda.balancer = "threshold";
     Simulation a(s, host), b(s, cuda);
-    for (int k = 0; k < 300; ++k) {
-        a.step();
-        b.step();
-    }
+    test::step_both(a, b, 300);
     const SnapshotData sb = b.snapshot();
     ASSERT_EQ(sb.id.size(), s.size()) << "particles lost or duplicated";
     const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
-    double worst = 0;
-    for (std::size_t i = s.n_boundary; i < pa.size(); ++i)
-        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(pa[i][k] - pb[i][k]));
+    const double worst = test::largest_fluid_difference(pa, pb, s.n_boundary);
     std::printf("cuda with 2 subdomains (%s) vs host, 300 steps: largest position difference %.3g dp\n",
                 b.device_name().c_str(), worst / s.dp);
     EXPECT_LT(worst, 1e-3 * s.dp);

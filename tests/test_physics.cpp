@@ -144,17 +144,10 @@ TEST(Precision, ShiftingTheSceneFarFromTheOriginGivesTheSameMotion) {
         far.hi[k] += shift;
     }
     Simulation a(base, SolverOptions{}), b(far, SolverOptions{});
-    for (int k = 0; k < 60; ++k) {
-        a.step();
-        b.step();
-    }
+    test::step_both(a, b, 60);
     const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
-    double worst = 0, moved = 0;
-    for (std::size_t i = base.n_boundary; i < pa.size(); ++i)
-        for (int k = 0; k < 3; ++k) {
-            worst = std::max(worst, std::abs((pb[i][k] - shift) - pa[i][k]));
-            moved = std::max(moved, std::abs(pa[i][k] - base.position[i][k]));
-        }
+    const double worst = test::largest_fluid_difference(pa, pb, base.n_boundary, shift);
+    const double moved = test::largest_fluid_difference(base.position, pa, base.n_boundary);
     EXPECT_GT(moved, 0.01 * base.dp);  // the scene did move
     // float32 absolute positions at 1e4 spacings would be off by ~1e-3 dp per rounding.
     EXPECT_LT(worst, 1e-5 * base.dp);

@@ -1,5 +1,7 @@
 #pragma once
 // Small scenes built directly in tests (no lattice, no walls), and a brute-force reference.
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "scenes/scene.hpp"
@@ -48,6 +50,25 @@ inline std::vector<std::array<double, 3>> positions_by_id(const SnapshotData& s)
     for (std::size_t i = 0; i < s.id.size(); ++i)
         out[s.id[i]] = {s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2]};
     return out;
+}
+
+// Steps two simulations side by side.
+inline void step_both(Simulation& a, Simulation& b, int steps) {
+    for (int k = 0; k < steps; ++k) {
+        a.step();
+        b.step();
+    }
+}
+
+// The largest coordinate difference between two runs' fluid particles (ids from n_boundary
+// on), with `shift` subtracted from the second run's positions first.
+inline double largest_fluid_difference(const std::vector<std::array<double, 3>>& a,
+                                       const std::vector<std::array<double, 3>>& b, std::size_t n_boundary,
+                                       double shift = 0) {
+    double worst = 0;
+    for (std::size_t i = n_boundary; i < a.size(); ++i)
+        for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs((b[i][k] - shift) - a[i][k]));
+    return worst;
 }
 
 }  // namespace sph::test
