@@ -1,6 +1,7 @@
 #include "cli_options.hpp"
 
 #include "core/error.hpp"
+#include "multi/particle_transport.hpp"
 
 namespace sph {
 
@@ -15,6 +16,11 @@ void add_solver_options(CLI::App& cmd, SolverCli& o) {
         ->capture_default_str();
     cmd.add_option("--device-map", o.device_map, "GPU of each subdomain, e.g. --device-map 0 1 (default: d mod GPUs)");
     cmd.add_option("--balancer", o.balancer, "load balancing: none, simple, every:K or threshold (paper 5.2)")
+        ->capture_default_str();
+    cmd.add_option("--transport", o.transport,
+                   "how particles travel between subdomains: auto, host, peer (GPU to GPU), staged (through host "
+                   "memory) or nccl")
+        ->check(CLI::IsMember({"auto", "host", "peer", "staged", "nccl"}))
         ->capture_default_str();
     cmd.add_option("--cells-per-support", o.cells_per_support,
                    "Smaller Cell's n: cell size = support radius / n (1 to 4)")
@@ -53,6 +59,7 @@ SolverOptions solver_options(const SolverCli& o) {
     s.subdomains = o.devices;
     s.device_map = o.device_map;
     s.balancer = o.balancer;
+    s.transport = parse_transport(o.transport);
     if (s.backend == BackendKind::cuda) {
         const int gpus = cuda_device_count();
         for (int g : s.device_map)

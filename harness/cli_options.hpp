@@ -24,6 +24,7 @@ struct SolverCli {
     int devices = 1;
     std::vector<int> device_map;
     std::string balancer = "none";
+    std::string transport = "auto";
 };
 
 void add_solver_options(CLI::App& cmd, SolverCli& o);

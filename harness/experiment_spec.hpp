@@ -16,6 +16,7 @@
 //     devices = 1                      #   X-slab subdomains (1..1024), on N GPUs, one, or the host
 //     device = 0                       #   GPU of a one-subdomain run
 //     balancer = "none"                #   "none", "simple", "every:K" or "threshold"
+//     transport = "auto"               #   "auto", "host", "peer", "staged" or "nccl"
 //     cells_per_support = 1            #   1..4 (Smaller Cell)
 //     merge = false                    #   Cell Merging
 //     verlet = false                   #   Verlet lists

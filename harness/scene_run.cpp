@@ -103,6 +103,8 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
     }
     Simulation sim(scene, solver);
     res.device = sim.device_name();
+    res.transport = sim.transport_name();
+    if (!sim.transport_note().empty()) res.transport += " (" + sim.transport_note() + ")";
     res.bytes_allocated = sim.bytes_allocated();
 
     namespace fs = std::filesystem;
@@ -162,6 +164,7 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         for (const auto& [k, v] : res.scene_settings) meta.emplace_back("scene." + k, v);
         meta.emplace_back("particles", std::to_string(res.particles));
         meta.emplace_back("device", res.device);
+        if (!res.transport.empty()) meta.emplace_back("transport", res.transport);
         if (!res.search_choice.empty()) meta.emplace_back("search_calibration", res.search_choice);
         const std::string path = (fs::path(req.out_dir) / (req.basename + "_steps.csv")).string();
         CsvWriter csv(path, step_csv_columns(), meta);

@@ -41,6 +41,7 @@ struct SceneRunResult {
     double wall_seconds = 0;
     std::vector<std::string> files;  // what was written
     std::map<std::string, std::string> scene_settings;
+    std::string transport;  // multi-subdomain runs: the transport, and why when it fell back
     std::string search_choice;  // what calibration picked, with every trial's time
 };
 

@@ -48,6 +48,7 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
                     pairs, pairs / double(r.particles), pairs / (fo.median * 1e-3));
     if (last.out_of_domain > 0)
         std::printf("warning: %zu fluid particles left the domain and were dropped\n", last.out_of_domain);
+    if (!r.transport.empty()) std::printf("transport between subdomains: %s\n", r.transport.c_str());
     if (!r.search_choice.empty()) std::printf("search calibration (median step): %s\n", r.search_choice.c_str());
     for (const auto& f : r.files) std::printf("wrote %s\n", f.c_str());
 }

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "multi/load_balancer.hpp"
+#include "multi/particle_transport.hpp"
 
 namespace sph {
 namespace {
@@ -25,6 +26,7 @@ const std::vector<SettingInfo>& settings() {
         {"devices", SettingKind::integer, "1", 1, 1024},
         {"gpu", SettingKind::integer, "0", 0, 1023},  // GPU of a one-subdomain run ("device" names the GPU in runs.csv)
         {"balancer", SettingKind::text, "none", 0, 0},
+        {"transport", SettingKind::text, "auto", 0, 0},
         {"cells_per_support", SettingKind::integer, "1", 1, 4},
         {"merge", SettingKind::boolean, "false", 0, 0},
         {"verlet", SettingKind::boolean, "false", 0, 0},
@@ -82,6 +84,10 @@ std::string check_solver_value(const std::string& key, const std::string& text) 
         make_balancer(text);  // throws InputError naming the allowed forms
         return text;
     }
+    if (key == "transport") {
+        parse_transport(text);  // throws InputError naming the allowed values
+        return text;
+    }
     if (info->kind == SettingKind::boolean) {
         std::string t = text;
         std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -122,6 +128,7 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
     o.subdomains = std::stoi(c.at("devices"));
     o.device = std::stoi(c.at("gpu"));
     o.balancer = c.at("balancer");
+    o.transport = parse_transport(c.at("transport"));
     o.search.cells_per_support = std::stoi(c.at("cells_per_support"));
     o.search.merge = c.at("merge") == "true";
     o.search.verlet = c.at("verlet") == "true";

@@ -63,7 +63,7 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
         d->kick_drift(0, 0);
     }
     if (slabs_) {
-        exchange_->refresh_ghosts(subdomains_, *slabs_);
+        exchange_->exchange(subdomains_, *slabs_);
         exchanged_for_ = std::make_unique<SlabDecomposition>(*slabs_);
     }
     StepStats stats;
@@ -104,7 +104,6 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
         if (c < grid_.view.out_of_domain()) ++per_slice[c / slice_cells];
     const int ghost = options_.search.cells_per_support;
     slabs_ = std::make_unique<SlabDecomposition>(SlabDecomposition::balanced_by_particles(per_slice, n, ghost));
-    exchange_ = std::make_unique<SlabExchange>(grid_.view, ghost);
     balancer_ = make_balancer(options_.balancer);
     std::vector<ParticleArrays> parts(n);
     for (std::size_t i = 0; i < all.size(); ++i) {
@@ -121,11 +120,12 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
     for (int d = 0; d < n; ++d) {
         subdomains_.push_back(make(d, capacity));
         subdomains_.back()->upload(parts[d]);
-        subdomains_.back()->set_owned_cells(exchange_->first_cell(slabs_->begin(d)),
-                                            exchange_->first_cell(slabs_->end(d)));
+        subdomains_.back()->set_owned_cells(slabs_->begin(d) * slice_cells, slabs_->end(d) * slice_cells);
         const std::string label = "subdomain " + std::to_string(d) + " on " + subdomains_.back()->device_name();
         nvtx_name_device(d, label.c_str());
     }
+    exchange_ = std::make_unique<SlabExchange>(grid_.view, ghost,
+                                               make_transport(options_.transport, subdomains_, transport_note_));
 }
 
 double Simulation::next_dt() const {
@@ -147,12 +147,13 @@ const StepRecord& Simulation::step() {
     record_.slices_moved = 0;
     record_.exchange = {};
     if (slabs_) {
-        // Ghosts are refreshed later in the step; dropping the stale ones first (a move on the
-        // device) means only particles that really left a slab travel through migration.
-        ScopedPhase ph(host_clock_, Phase::migrate, n, 0);
-        for (int d = 0; d < count; ++d)
+        // The exchange later in the step needs every particle held once: drop the stale
+        // ghosts first (a move on the device).
+        for (int d = 0; d < count; ++d) {
+            ScopedPhase ph(clock(d), Phase::migrate, n, d);
             subdomains_[d]->keep_only_cells(exchange_->first_cell(exchanged_for_->begin(d)),
                                             exchange_->first_cell(exchanged_for_->end(d)));
+        }
     }
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::integrate, n, d);
@@ -176,7 +177,7 @@ const StepRecord& Simulation::step() {
         }
     }
     ++steps_since_build_;
-    if (slabs_) exchange_particles(n, host_clock_);
+    if (slabs_) exchange_particles(n);
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::forces, n, d);
         verlet ? subdomains_[d]->compute_forces_listed() : subdomains_[d]->compute_forces();
@@ -215,7 +216,7 @@ const StepRecord& Simulation::step() {
     // Phase times overlap where the host waits for device work launched in an earlier phase;
     // the wall clock of the whole step (the subdomain clocks above have synchronised) does not.
     record_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
-    for (Phase p : {Phase::exchange, Phase::migrate, Phase::balance}) record_.phase_ms[std::size_t(p)] += host[std::size_t(p)];
+    for (Phase p : {Phase::exchange, Phase::balance}) record_.phase_ms[std::size_t(p)] += host[std::size_t(p)];
     record_.step = n;
     record_.time += dt;
     record_.dt = dt;
@@ -225,20 +226,15 @@ const StepRecord& Simulation::step() {
 }
 
 // Migration (particles that left their slab, slices the balancer moved) and the ghost
-// refresh; both timed on the host, since they are host-staged transfers between devices.
-void Simulation::exchange_particles(long step, PhaseClock& host_clock) {
-    {
-        ScopedPhase ph(host_clock, Phase::migrate, step, 0);
-        const ExchangeCounters c = exchange_->migrate(subdomains_, *exchanged_for_, *slabs_);
-        *exchanged_for_ = *slabs_;
-        for (auto& d : subdomains_) d->sort_by_cell();
-        record_.exchange.particles_migrated += c.particles_migrated;
-        record_.exchange.bytes += c.bytes;
-    }
-    ScopedPhase ph(host_clock, Phase::exchange, step, 0);
-    const ExchangeCounters c = exchange_->refresh_ghosts(subdomains_, *slabs_);
-    record_.exchange.ghosts_sent += c.ghosts_sent;
-    record_.exchange.bytes += c.bytes;
+// refresh, in one exchange. Timed on the host from idle devices to idle devices, so that the
+// phase holds the exchange (and its sort) and nothing queued before it.
+void Simulation::exchange_particles(long step) {
+    for (auto& d : subdomains_) d->synchronize();
+    ScopedPhase ph(host_clock_, Phase::exchange, step, 0);
+    const ExchangeCounters c = exchange_->exchange(subdomains_, *slabs_);
+    *exchanged_for_ = *slabs_;
+    for (auto& d : subdomains_) d->synchronize();
+    record_.exchange = c;
 }
 
 // Moves slab boundaries from the previous step's update times (paper section 5.2).

@@ -1,5 +1,5 @@
 #pragma once
-// The time loop over a set of subdomains: kick-drift, (balance), sort, (migrate, ghosts),
+// The time loop over a set of subdomains: (drop ghosts), kick-drift, (balance), sort, (exchange),
 // forces, diagnostics, kick; with per-phase timing, NVTX ranges and the blow-up check.
 // One subdomain is a plain single-device run; N subdomains split space into X slabs
 // (paper section 5), on N GPUs, on one GPU, or on the host.
@@ -24,6 +24,7 @@ struct SolverOptions {
     int subdomains = 1;      // X slabs (logical devices)
     std::vector<int> device_map;  // GPU of each subdomain; empty: subdomain d on GPU d mod count
     std::string balancer = "none";  // none, simple, every:K, threshold
+    TransportKind transport = TransportKind::automatic;  // how particles travel between subdomains
     SearchOptions search;
     double cfl = 0;       // 0: the scene's
     double fixed_dt = 0;  // > 0: a fixed step (benchmarks), no CFL
@@ -37,7 +38,7 @@ struct StepRecord {
     double time = 0;    // simulated time after it
     double dt = 0;
     StepStats stats;
-    PhaseTimes phase_ms{};  // compute phases: the slowest subdomain; exchange phases: host wall time
+    PhaseTimes phase_ms{};  // the slowest subdomain; exchange and balance: host wall time
     std::vector<PhaseTimes> subdomain_ms;  // per subdomain
     std::vector<std::size_t> subdomain_particles;  // owned particles per subdomain
     std::size_t out_of_domain = 0;
@@ -79,13 +80,17 @@ public:
     std::size_t fluid_count() const { return n_fluid_; }
     int subdomain_count() const { return int(subdomains_.size()); }
     const SlabDecomposition* decomposition() const { return slabs_.get(); }
+    // The transport of a multi-subdomain run ("" for one subdomain), and why it was chosen
+    // when that is worth saying (a fallback).
+    std::string transport_name() const { return exchange_ ? exchange_->transport().name() : ""; }
+    const std::string& transport_note() const { return transport_note_; }
 
 private:
     double next_dt() const;
     real verlet_skin() const;
     bool verlet_list_expired(double dt);
     void make_subdomains(const ParticleArrays& all);
-    void exchange_particles(long step, PhaseClock& host_clock);
+    void exchange_particles(long step);
     void rebalance(long step);
     SnapshotData to_snapshot(const std::vector<ParticleArrays>& parts) const;
     PhaseClock& clock(int d) { return options_.timing ? subdomains_[d]->clock() : untimed_; }
@@ -101,6 +106,7 @@ private:
     SteadyPhaseClock host_clock_;
     NullPhaseClock untimed_;
     StatsLimits limits_;
+    std::string transport_note_;
     StepRecord record_;
     std::size_t n_total_ = 0, n_fluid_ = 0;
     long steps_since_build_ = 0, list_builds_ = 0;

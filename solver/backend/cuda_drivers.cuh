@@ -22,6 +22,9 @@ void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, const 
                    cudaStream_t s);
 void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::uint32_t cell_count,
                       std::uint32_t* cell_start, cudaStream_t s);
+// Marks the particles of in-domain cells outside [begin, end) as ghosts (particle.hpp).
+void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, std::uint32_t begin, std::uint32_t end,
+                 std::uint32_t out_of_domain, cudaStream_t s);
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s);
 // Writes each particle's list and count; returns nothing (the caller reduces the counts).

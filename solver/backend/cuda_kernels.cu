@@ -39,6 +39,12 @@ __global__ void gather_sorted_kernel(const std::uint64_t* keys, const std::uint3
     id[k] = std::uint32_t(key);
 }
 
+__global__ void mark_ghosts_kernel(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, std::uint32_t begin,
+                                   std::uint32_t end, std::uint32_t out_of_domain) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < n) id[i] = mark_ghost(id[i], cell[i], begin, end, out_of_domain);
+}
+
 template <class Kernel, class Search, bool Diffusion>
 __global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force,
                                                             ActiveRange range) {
@@ -149,6 +155,13 @@ void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::ui
     thrust::lower_bound(thrust::cuda::par_nosync.on(s), sorted_cell, sorted_cell + n,
                         thrust::make_counting_iterator<std::uint32_t>(0),
                         thrust::make_counting_iterator<std::uint32_t>(cell_count + 1), cell_start);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, std::uint32_t begin, std::uint32_t end,
+                 std::uint32_t out_of_domain, cudaStream_t s) {
+    if (n == 0) return;
+    mark_ghosts_kernel<<<blocks_for(n), block_size, 0, s>>>(cell, id, n, begin, end, out_of_domain);
     SPH_CUDA_CHECK_LAUNCH();
 }
 

@@ -9,7 +9,6 @@
 #include "backend/cuda_drivers.cuh"
 #include "backend/cuda_phase_clock.cuh"
 #include "backend/device_buffer.cuh"
-#include "backend/pinned_staging.cuh"
 
 namespace sph {
 namespace {
@@ -114,25 +113,7 @@ public:
         owned_[0] = std::min(begin, ncells);
         owned_[1] = std::min(end, ncells);
         active_stale_ = true;
-    }
-    ParticleArrays copy_cells(std::uint32_t begin, std::uint32_t end) override {
-        use_device();
-        const auto r = cell_starts({begin, end});
-        const std::uint32_t lo = r[0], m = r[1] - r[0];
-        ParticleArrays p;
-        if (m == 0) return p;
-        // Through pinned memory: pageable transfers run at a fraction of the bus speed.
-        const auto [pos, velrho, cell, id] = staging_.particles(m);
-        SPH_CUDA_CHECK(cudaMemcpyAsync(pos, pos_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(velrho, velrho_.data() + lo, m * sizeof(real4), cudaMemcpyDeviceToHost, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(cell, cell_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(id, id_.data() + lo, m * 4, cudaMemcpyDeviceToHost, stream_));
-        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
-        p.pos.assign(pos, pos + m);
-        p.velrho.assign(velrho, velrho + m);
-        p.cell.assign(cell, cell + m);
-        p.id.assign(id, id + m);
-        return p;
+        gpu::mark_ghosts(cell_.data(), id_.data(), n_, begin, end, cfg_.grid.out_of_domain(), stream_);
     }
     void keep_only_cells(std::uint32_t begin, std::uint32_t end) override {
         use_device();
@@ -171,24 +152,43 @@ public:
         }
         active_stale_ = true;
     }
-    void append(const ParticleArrays& p) override {
+    ParticleSpan particles(std::size_t first, std::size_t count) override {
+        return {pos_.data() + first, velrho_.data() + first, cell_.data() + first, id_.data() + first, count, device_,
+                stream_};
+    }
+    ParticleSpan receive_area(std::size_t count) override {
         use_device();
-        const std::uint32_t m = std::uint32_t(p.size());
+        if (count > recv_id_.size()) {
+            const std::size_t room = count + count / 2;
+            recv_pos_.allocate(room);
+            recv_velrho_.allocate(room);
+            recv_cell_.allocate(room);
+            recv_id_.allocate(room);
+        }
+        received_ = count;
+        return {recv_pos_.data(), recv_velrho_.data(), recv_cell_.data(), recv_id_.data(), count, device_, stream_};
+    }
+    void accept_received() override {
+        use_device();
+        const std::size_t m = received_;
+        received_ = 0;
         if (n_ + m > pos_.size())
             throw RunError("subdomain on " + name_ + " would hold " + std::to_string(n_ + m) +
                            " particles, more than the " + std::to_string(pos_.size()) + " it was sized for");
         if (m == 0) return;
-        const auto [pos, velrho, cell, id] = staging_.particles(m);
-        std::copy(p.pos.begin(), p.pos.end(), pos);
-        std::copy(p.velrho.begin(), p.velrho.end(), velrho);
-        std::copy(p.cell.begin(), p.cell.end(), cell);
-        std::copy(p.id.begin(), p.id.end(), id);
-        SPH_CUDA_CHECK(cudaMemcpyAsync(pos_.data() + n_, pos, m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(velrho_.data() + n_, velrho, m * sizeof(real4), cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data() + n_, cell, m * 4, cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data() + n_, id, m * 4, cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));  // the staging buffer is reused
-        n_ += m;
+        // On this stream, which the transport has ordered after the incoming copies.
+        auto copy = [&](auto* to, const auto* from) {
+            SPH_CUDA_CHECK(cudaMemcpyAsync(to + n_, from, m * sizeof(*from), cudaMemcpyDeviceToDevice, stream_));
+        };
+        copy(pos_.data(), recv_pos_.data());
+        copy(velrho_.data(), recv_velrho_.data());
+        copy(cell_.data(), recv_cell_.data());
+        copy(id_.data(), recv_id_.data());
+        n_ += std::uint32_t(m);
+    }
+    void synchronize() override {
+        use_device();
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
     }
     std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) override {
         use_device();
@@ -327,7 +327,9 @@ private:
     DeviceBuffer<std::uint32_t> list_index_, list_count_, counters32_{1};
     std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
-    PinnedStaging staging_;
+    DeviceBuffer<real4> recv_pos_, recv_velrho_;  // the receive area of exchanges
+    DeviceBuffer<std::uint32_t> recv_cell_, recv_id_;
+    std::size_t received_ = 0;
     std::size_t temp_bytes_ = 0;
     int key_bits_ = 64;
     std::uint32_t n_ = 0;

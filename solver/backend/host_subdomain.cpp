@@ -31,15 +31,11 @@ public:
         owned_cells_[0] = begin;
         owned_cells_[1] = end;
         update_owned_range();
-    }
-    ParticleArrays copy_cells(std::uint32_t begin, std::uint32_t end) override {
-        ParticleArrays out;
-        const std::size_t lo = cell_start_[begin], hi = cell_start_[end];
-        out.pos.assign(a_.pos.begin() + lo, a_.pos.begin() + hi);
-        out.velrho.assign(a_.velrho.begin() + lo, a_.velrho.begin() + hi);
-        out.cell.assign(a_.cell.begin() + lo, a_.cell.begin() + hi);
-        out.id.assign(a_.id.begin() + lo, a_.id.begin() + hi);
-        return out;
+        const std::uint32_t outside = cfg_.grid.out_of_domain();
+        const std::ptrdiff_t n = std::ptrdiff_t(a_.size());
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = 0; i < n; ++i)
+            a_.id[i] = mark_ghost(a_.id[i], a_.cell[i], begin, end, outside);
     }
     void keep_only_cells(std::uint32_t begin, std::uint32_t end) override {
         const std::size_t lo = cell_start_[begin], hi = cell_start_[end];
@@ -57,13 +53,23 @@ public:
         keep(a_.force);  // the next kick reads the forces of the kept particles
         update_owned_range_after_keep(hi - lo);
     }
-    void append(const ParticleArrays& p) override {
-        a_.pos.insert(a_.pos.end(), p.pos.begin(), p.pos.end());
-        a_.velrho.insert(a_.velrho.end(), p.velrho.begin(), p.velrho.end());
-        a_.cell.insert(a_.cell.end(), p.cell.begin(), p.cell.end());
-        a_.id.insert(a_.id.end(), p.id.begin(), p.id.end());
-        a_.force.resize(a_.size());
+    ParticleSpan particles(std::size_t first, std::size_t count) override {
+        return {a_.pos.data() + first, a_.velrho.data() + first, a_.cell.data() + first, a_.id.data() + first, count};
     }
+    ParticleSpan receive_area(std::size_t count) override {
+        for (auto* v : {&received_.pos, &received_.velrho}) v->resize(count);
+        for (auto* v : {&received_.cell, &received_.id}) v->resize(count);
+        return {received_.pos.data(), received_.velrho.data(), received_.cell.data(), received_.id.data(), count};
+    }
+    void accept_received() override {
+        a_.pos.insert(a_.pos.end(), received_.pos.begin(), received_.pos.end());
+        a_.velrho.insert(a_.velrho.end(), received_.velrho.begin(), received_.velrho.end());
+        a_.cell.insert(a_.cell.end(), received_.cell.begin(), received_.cell.end());
+        a_.id.insert(a_.id.end(), received_.id.begin(), received_.id.end());
+        a_.force.resize(a_.size());
+        received_ = {};
+    }
+    void synchronize() override {}
     std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) override {
         std::vector<std::uint32_t> out;
         for (std::uint32_t c : cells) out.push_back(cell_start_[c]);
@@ -235,7 +241,7 @@ private:
     }
 
     SubdomainConfig cfg_;
-    ParticleArrays a_;
+    ParticleArrays a_, received_;
     std::vector<std::uint32_t> cell_start_, order_, list_index_, list_count_;
     std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;

@@ -24,6 +24,18 @@ struct ParticleArrays {
     std::size_t size() const { return id.size(); }
 };
 
+// Particle arrays an exchange carries, in a subdomain's own memory: device memory of GPU
+// `device` (whose work is queued on `stream`, a cudaStream_t), or host memory (device -1).
+struct ParticleSpan {
+    real4* pos = nullptr;
+    real4* velrho = nullptr;
+    std::uint32_t* cell = nullptr;
+    std::uint32_t* id = nullptr;
+    std::size_t count = 0;
+    int device = -1;
+    void* stream = nullptr;
+};
+
 struct SubdomainConfig {
     PhysicsParams params;
     GridView grid;
@@ -67,15 +79,21 @@ public:
     // Multi-device support. After a sort, the particles of a cell range are one contiguous
     // range (cells are x-major, so a range of X slices is a range of cells).
     // Per-particle phases (kicks, forces, statistics) act on the particles of the owned cells;
-    // the rest are ghosts of neighbours or particles that left the domain.
+    // the rest are ghosts of neighbours or particles that left the domain. Setting the owned
+    // cells also marks every particle of another in-domain cell as a ghost (ghost_id_flag).
     virtual void set_owned_cells(std::uint32_t begin, std::uint32_t end) = 0;
-    virtual ParticleArrays copy_cells(std::uint32_t begin, std::uint32_t end) = 0;  // pos, velrho, cell, id
     // Drops every particle outside [begin, end) except those that left the domain.
     virtual void keep_only_cells(std::uint32_t begin, std::uint32_t end) = 0;
-    virtual void append(const ParticleArrays& particles) = 0;  // unsorted until the next sort
     // cell_start at the given cells (counts per slice are differences of these).
     virtual std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) = 0;
     virtual std::size_t size() const = 0;  // particles held, ghosts included
+
+    // What transports read and write (multi/particle_transport.hpp): sorted particles
+    // [first, first + count) in place, and a receive area that accept_received() appends.
+    virtual ParticleSpan particles(std::size_t first, std::size_t count) = 0;
+    virtual ParticleSpan receive_area(std::size_t count) = 0;
+    virtual void accept_received() = 0;  // unsorted until the next sort
+    virtual void synchronize() = 0;      // waits for the work queued on this subdomain
 
     // Owned particles inside the domain after the last sort.
     virtual std::size_t active_count() const = 0;

@@ -26,5 +26,11 @@ SPH_HD real4 make_velrho(real3 v, real rho, bool boundary) {
 // after owned particles of the same cell and are never written out.
 constexpr std::uint32_t ghost_id_flag = 0x80000000u;
 SPH_HD bool is_ghost_id(std::uint32_t id) { return (id & ghost_id_flag) != 0; }
+// A particle of an in-domain cell outside a subdomain's owned cells [begin, end) is a ghost.
+SPH_HD std::uint32_t mark_ghost(std::uint32_t id, std::uint32_t cell, std::uint32_t begin, std::uint32_t end,
+                                std::uint32_t out_of_domain) {
+    const bool ghost = cell < out_of_domain && (cell < begin || cell >= end);
+    return ghost ? id | ghost_id_flag : id & ~ghost_id_flag;
+}
 
 }  // namespace sph

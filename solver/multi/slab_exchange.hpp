@@ -1,12 +1,19 @@
 #pragma once
-// Moves particles between the subdomains of an X-slab decomposition: migration (particles
-// that left their slab, and slices a balancer handed over, go to their new owner) and the
-// ghost refresh (copies of the slices each neighbour reads). Transfers are staged through
-// the host (a transport that works for host and GPU subdomains alike).
+// Moves particles between the subdomains of an X-slab decomposition in one exchange per step:
+// each subdomain d must end up with every particle of its extended slab (its own slices plus
+// ghost_slices on each side). Before the exchange every particle is held by exactly one
+// subdomain (ghosts were dropped), so each sends the particles it holds in every other
+// subdomain's extended slab and keeps those in its own: particles that left a slab (and
+// slices a balancer handed over) reach their new owner, and ghost copies reach the neighbours
+// that read them, in the same transfer. This is the paper's "send all potential migrating
+// particles" (section 5.3) taken one step further: migration and the ghost refresh are one
+// message per pair of subdomains, and no gather kernel is needed since a sort by cell makes
+// each extended slab one contiguous range.
 #include <memory>
 #include <vector>
 
 #include "backend/subdomain.hpp"
+#include "multi/particle_transport.hpp"
 #include "multi/slab_decomposition.hpp"
 
 namespace sph {
@@ -17,25 +24,22 @@ struct ExchangeCounters {
 
 class SlabExchange {
 public:
-    SlabExchange(const GridView& grid, int ghost_slices) : grid_(grid), ghost_slices_(ghost_slices) {}
+    SlabExchange(const GridView& grid, int ghost_slices, std::unique_ptr<ParticleTransport> transport)
+        : grid_(grid), ghost_slices_(ghost_slices), transport_(std::move(transport)) {}
 
-    // Subdomains must be sorted. `before` is the decomposition their particles were
-    // exchanged for, `after` the one to move to (they differ when a balancer moved slices).
-    // Afterwards each holds exactly its owned particles (and those that left the domain),
-    // unsorted: stale ghosts are dropped, particles outside their new slab go to its owner.
-    ExchangeCounters migrate(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& before,
-                             const SlabDecomposition& after);
-    // Subdomains must be sorted and hold only owned particles. Afterwards each also holds
-    // ghost copies of the slices within ghost_slices of its slab, and is sorted, with its
-    // owned cells set.
-    ExchangeCounters refresh_ghosts(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs);
+    // Subdomains must be sorted and hold no ghosts. Afterwards each holds its owned particles,
+    // ghost copies of the slices within ghost_slices of its slab (marked as ghosts) and the
+    // particles that left the domain, sorted, with its owned cells set.
+    ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs);
 
     std::uint32_t slice_cells() const { return std::uint32_t(grid_.ny) * std::uint32_t(grid_.nz); }
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells(); }
+    const ParticleTransport& transport() const { return *transport_; }
 
 private:
     GridView grid_;
     int ghost_slices_;
+    std::unique_ptr<ParticleTransport> transport_;
 };
 
 // Bytes one particle occupies in a transfer (position, velocity and density, cell, id).

@@ -1,0 +1,63 @@
+#include "multi/particle_transport.hpp"
+
+#include <algorithm>
+
+#include "core/error.hpp"
+
+namespace sph {
+namespace {
+
+// Host subdomains share one address space: a transfer is four array copies.
+class HostCopyTransport final : public ParticleTransport {
+public:
+    std::string name() const override { return "host"; }
+    void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
+                 const std::vector<ParticleSpan>& areas) override {
+        for (const ParticleTransfer& t : transfers) {
+            const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+            const ParticleSpan& dst = areas[t.to];
+            std::copy_n(src.pos, t.count, dst.pos + t.offset);
+            std::copy_n(src.velrho, t.count, dst.velrho + t.offset);
+            std::copy_n(src.cell, t.count, dst.cell + t.offset);
+            std::copy_n(src.id, t.count, dst.id + t.offset);
+        }
+    }
+};
+
+}  // namespace
+
+TransportKind parse_transport(const std::string& text) {
+    for (TransportKind k : {TransportKind::automatic, TransportKind::host, TransportKind::peer, TransportKind::staged,
+                            TransportKind::nccl})
+        if (text == transport_label(k)) return k;
+    throw InputError("unknown transport '" + text + "': use auto, host, peer, staged or nccl");
+}
+
+const char* transport_label(TransportKind kind) {
+    switch (kind) {
+        case TransportKind::host: return "host";
+        case TransportKind::peer: return "peer";
+        case TransportKind::staged: return "staged";
+        case TransportKind::nccl: return "nccl";
+        default: return "auto";
+    }
+}
+
+std::unique_ptr<ParticleTransport> make_transport(TransportKind kind,
+                                                  const std::vector<std::unique_ptr<Subdomain>>& subs,
+                                                  std::string& note) {
+    const bool all_host = std::all_of(subs.begin(), subs.end(), [](auto& s) { return s->backend() == BackendKind::host; });
+    const bool any_host = std::any_of(subs.begin(), subs.end(), [](auto& s) { return s->backend() == BackendKind::host; });
+    if (all_host) {
+        if (kind != TransportKind::automatic && kind != TransportKind::host)
+            throw InputError(std::string("the ") + transport_label(kind) +
+                             " transport moves particles between GPUs; host subdomains use --transport host");
+        return std::make_unique<HostCopyTransport>();
+    }
+    if (any_host) throw InputError("a run mixes host and GPU subdomains, which no transport supports");
+    if (kind == TransportKind::host)
+        throw InputError("the host transport copies between host subdomains; GPU subdomains use peer, staged or nccl");
+    return make_cuda_transport(kind, subs, note);
+}
+
+}  // namespace sph

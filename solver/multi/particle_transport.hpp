@@ -1,0 +1,54 @@
+#pragma once
+// How particles travel between subdomains during an exchange. One interface, several ways:
+//   host    copies between host subdomains (the host backend, and CI)
+//   peer    GPU to GPU copies (cudaMemcpyPeerAsync over NVLink or PCIe; on one GPU a local copy)
+//   staged  through page-locked host memory, for GPUs that cannot reach each other
+//   nccl    NCCL send/receive, one rank per GPU (libnccl is loaded when asked for)
+// An MPI transport for runs across nodes would implement the same interface.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend/subdomain.hpp"
+
+namespace sph {
+
+// One transfer of an exchange: `count` particles of subdomain `from`, starting at its sorted
+// particle `first`, land in the receive area of `to` at `offset`.
+struct ParticleTransfer {
+    int from = 0, to = 0;
+    std::size_t first = 0, count = 0, offset = 0;
+};
+
+class ParticleTransport {
+public:
+    virtual ~ParticleTransport() = default;
+    virtual std::string name() const = 0;
+    // Carries every transfer into the receive areas the caller has sized. Afterwards each
+    // destination's queued work is ordered after its incoming data (a GPU copy may still be in
+    // flight), and each source's queued work after its outgoing reads, so that both can go on
+    // rearranging their arrays.
+    virtual void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
+                         const std::vector<ParticleSpan>& receive_areas) = 0;
+};
+
+enum class TransportKind { automatic, host, peer, staged, nccl };
+
+// "auto", "host", "peer", "staged" or "nccl"; throws InputError naming the allowed values.
+TransportKind parse_transport(const std::string& text);
+const char* transport_label(TransportKind kind);
+
+// The transport for these subdomains. `automatic` picks host copies for host subdomains and
+// peer copies between GPUs, falling back to staging through host memory (with a note saying
+// so in `note`) where two GPUs have no peer access. Asking for a transport the subdomains
+// cannot use is an InputError naming the reason.
+std::unique_ptr<ParticleTransport> make_transport(TransportKind kind,
+                                                  const std::vector<std::unique_ptr<Subdomain>>& subs,
+                                                  std::string& note);
+
+// The CUDA transports (cuda_transport.cu; without CUDA, a build without it says so).
+std::unique_ptr<ParticleTransport> make_cuda_transport(TransportKind kind,
+                                                       const std::vector<std::unique_ptr<Subdomain>>& subs,
+                                                       std::string& note);
+
+}  // namespace sph
