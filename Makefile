@@ -7,7 +7,7 @@ CMAKE_ARGS ?=
 SPHBENCH := $(BUILD)/harness/sphbench
 PYTHON ?= python3
 
-.PHONY: all deps configure build test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 multi-gpu cll-vs-vl table-vl perf-check clean
+.PHONY: all deps configure build test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl table-vl perf-check clean
 
 all: build
 
@@ -35,10 +35,15 @@ multi-gpu cll-vs-vl: build
 fig5 fig6 fig7 fig8 fig9: fig%: multi-gpu
 	$(PYTHON) plots/fig$*.py
 
+# Figure 10: the whole step per transport (the communication optimisation, paper section 6).
+fig10: build
+	$(SPHBENCH) run experiments/fig10.toml
+	$(PYTHON) plots/fig10.py
+
 table-vl: cll-vs-vl
 	$(PYTHON) plots/table_vl.py
 
-figures: fig3 fig4 fig5 fig6 fig7 fig8 fig9 table-vl
+figures: fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 table-vl
 
 perf-check: build
 	$(SPHBENCH) run experiments/perf-smoke.toml --backend host --out results/perf-check --force

@@ -32,8 +32,11 @@ TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
     }
 }
 
-// Two subdomains on the GPU(s) (one each where there are two) against one on the host.
-TEST(CudaBackend, TwoSubdomainsMatchTheHostBackend) {
+// Two subdomains on the GPU(s) (one each where there are two) against one on the host, with
+// every transport: the particles must not depend on how they travelled.
+class CudaTransports : public ::testing::TestWithParam<TransportKind> {};
+
+TEST_P(CudaTransports, TwoSubdomainsMatchTheHostBackend) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
     const Scene s = test::small_dambreak("0.02");
     SolverOptions host, cuda;
@@ -41,16 +44,27 @@ TEST(CudaBackend, TwoSubdomainsMatchTheHostBackend) {
     cuda.backend = BackendKind::cuda;
     cuda.subdomains = 2;
     cuda.balancer = "threshold";
+    cuda.transport = GetParam();
+    if (GetParam() == TransportKind::nccl && cuda_device_count() < 2) {
+        // NCCL has one rank per GPU: two subdomains on one GPU must be refused clearly.
+        EXPECT_THROW(Simulation(s, cuda), InputError);
+        GTEST_SKIP() << "the nccl transport needs two GPUs; checked that one GPU is refused";
+    }
     Simulation a(s, host), b(s, cuda);
     test::step_both(a, b, 300);
     const SnapshotData sb = b.snapshot();
     ASSERT_EQ(sb.id.size(), s.size()) << "particles lost or duplicated";
     const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
     const double worst = test::largest_fluid_difference(pa, pb, s.n_boundary);
-    std::printf("cuda with 2 subdomains (%s) vs host, 300 steps: largest position difference %.3g dp\n",
-                b.device_name().c_str(), worst / s.dp);
+    std::printf("cuda with 2 subdomains (%s, transport %s) vs host, 300 steps: largest position difference %.3g dp\n",
+                b.device_name().c_str(), b.transport_name().c_str(), worst / s.dp);
     EXPECT_LT(worst, 1e-3 * s.dp);
 }
+
+INSTANTIATE_TEST_SUITE_P(Exchange, CudaTransports,
+                         ::testing::Values(TransportKind::automatic, TransportKind::peer, TransportKind::staged,
+                                           TransportKind::nccl),
+                         [](const auto& info) { return std::string(transport_label(info.param)); });
 
 }  // namespace
 }  // namespace sph

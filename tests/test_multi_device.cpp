@@ -75,6 +75,33 @@ TEST(MultiDeviceErrors, TooManySubdomainsForTheGridIsAClearError) {
     }
 }
 
+TEST(MultiDeviceErrors, GpuTransportsFallBackToHostCopiesOnTheHostAndSaySo) {
+    EXPECT_THROW(parse_transport("carrier-pigeon"), InputError);
+    for (TransportKind gpu_only : {TransportKind::peer, TransportKind::staged, TransportKind::nccl}) {
+        SolverOptions o;
+        o.subdomains = 2;
+        o.transport = gpu_only;
+        Simulation sim(test::small_dambreak("0.04"), o);
+        EXPECT_EQ(sim.transport_name(), "host");
+        EXPECT_NE(sim.transport_note().find(transport_label(gpu_only)), std::string::npos) << sim.transport_note();
+    }
+}
+
+// Every transfer is counted once: bytes are the particles received times their size, and a
+// run without balancing migrates only particles that crossed a slab boundary.
+TEST(MultiDeviceErrors, ExchangeCountersAddUp) {
+    SolverOptions o;
+    o.subdomains = 3;
+    Simulation sim(test::small_dambreak("0.04"), o);
+    EXPECT_EQ(sim.transport_name(), "host");
+    for (int k = 0; k < 20; ++k) {
+        const StepRecord& r = sim.step();
+        EXPECT_GT(r.exchange.ghosts_sent, 0u);
+        EXPECT_EQ(r.exchange.bytes,
+                  (r.exchange.ghosts_sent + r.exchange.particles_migrated) * exchanged_bytes_per_particle);
+    }
+}
+
 TEST(MultiDeviceErrors, UnknownBalancerIsRefusedByName) {
     SolverOptions o;
     o.subdomains = 2;

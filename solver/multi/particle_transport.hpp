@@ -40,7 +40,8 @@ const char* transport_label(TransportKind kind);
 
 // The transport for these subdomains. `automatic` picks host copies for host subdomains and
 // peer copies between GPUs, falling back to staging through host memory (with a note saying
-// so in `note`) where two GPUs have no peer access. Asking for a transport the subdomains
+// so in `note`) where two GPUs have no peer access. Host subdomains always use host copies
+// (with a note when another transport was asked for). Asking GPUs for a transport they
 // cannot use is an InputError naming the reason.
 std::unique_ptr<ParticleTransport> make_transport(TransportKind kind,
                                                   const std::vector<std::unique_ptr<Subdomain>>& subs,
