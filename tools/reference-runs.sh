@@ -2,7 +2,7 @@
 # The GPU runs behind results/reference/<gpu>/ and the README's figures, in one command for a
 # GPU machine (through tools/gpu-run.sh exec). Writes everything under $1 (default results/gpu).
 #   single: benchmarks against DualSPHysics, the CUDA-vs-host test, fig4, fig3, cll-vs-vl
-#   multi:  the multi-gpu experiment (figures 5 to 9); needs 2 GPUs
+#   multi:  the multi-gpu experiment (figures 5 to 9) and fig10 (transports); needs 2 GPUs
 set -uo pipefail
 out=${2:-results/gpu}
 mkdir -p "$out"
@@ -10,7 +10,7 @@ export NCCL_NVLS_ENABLE=0
 case "${1:-single}" in
 single)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
-  sph_tests --gtest_filter='CudaBackend.*' 2>&1 | grep -E 'cuda vs host|OK|FAILED|PASSED' | tee "$out/cuda_vs_host.txt"
+  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*' 2>&1 | grep -E 'cuda vs host|OK|FAILED|PASSED' | tee "$out/cuda_vs_host.txt"
   for args in "dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2" \
               "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2" \
               "armadillo --set particles=2980000" "armadillo --set particles=2980000 --merge --cells-per-support 2"; do
@@ -30,10 +30,12 @@ single)
 multi)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
   nvidia-smi topo -m | tee "$out/topology.txt"
-  sph_tests --gtest_filter='CudaBackend.*' >"$out/cuda_tests.log" 2>&1
+  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*' >"$out/cuda_tests.log" 2>&1
   ok=$?
   grep -E 'cuda |OK|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_vs_host.txt"
   [ $ok -eq 0 ] || { echo "reference-runs: the CUDA tests failed; not running the experiment"; exit 1; }
-  sphbench run experiments/multi-gpu.toml --backend cuda --out "$out" --force --quiet
+  for spec in ${SPECS:-multi-gpu fig10}; do
+    sphbench run experiments/$spec.toml --backend cuda --out "$out" --force --quiet
+  done
   ;;
 esac
