@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+
+#include "core/error.hpp"
 
 namespace sph {
 
@@ -17,6 +20,15 @@ Grid make_grid(const double lo[3], const double hi[3], double support, int cells
         const double length = hi[a] - lo[a];
         const bool wraps = periodic != nullptr && periodic[a];
         *flags[a] = wraps;
+        if (wraps && length < cs * (1 - 1e-9)) {
+            // One cell would be shorter than support / n, and the stencil would miss images.
+            static const char* axis[] = {"x", "y", "z"};
+            std::ostringstream m;
+            m << "the periodic " << axis[a] << " axis is " << length << " m long, shorter than one cell (support / "
+              << cells_per_support << " = " << cs << " m); make the periodic box longer along " << axis[a]
+              << " or use more cells per support";
+            throw InputError(m.str());
+        }
         if (wraps) {
             // A whole number of cells spans the period; rounding down keeps them >= support / n.
             // (The 1e-9 keeps a period of exactly k cells from losing one to rounding.)

@@ -35,6 +35,7 @@ Scene make_taylor_green(SceneOptions& opt) {
     p.alpha = real(opt.number("alpha", 0, 0, 10));  // the physical viscosity is nu; no artificial one by default
     p.delta = real(opt.number("delta", 0.1, 0, 1));
     p.nu = real(nu);
+    p.background_pressure = real(opt.number("background_pressure", 0, 0, 1e3) * double(p.rho0) * U * U);
     p.gravity = {0, 0, 0};
     const std::string kernel = opt.text("kernel", "wendland");
     if (kernel == "wendland") s.kernel = KernelType::wendland;
@@ -42,6 +43,9 @@ Scene make_taylor_green(SceneOptions& opt) {
     else throw InputError("option 'kernel' must be 'wendland' or 'cubic', got '" + kernel + "'");
     s.cfl = opt.number("cfl", 0.2, 1e-4, 1.0);
     p = finish_params(p);
+    if (double(layers) * s.dp < double(p.support))
+        throw InputError("scene 'taylor-green' needs its z period (layers x spacing) to be at least the kernel support: "
+                         "raise 'layers' to " + std::to_string(long(std::ceil(double(p.support) / s.dp))));
 
     // Particles at cell centres of a dp lattice, so every period holds whole layers.
     const double k = 2 * std::numbers::pi / wavelength;
