@@ -35,7 +35,6 @@ Scene make_taylor_green(SceneOptions& opt) {
     p.alpha = real(opt.number("alpha", 0, 0, 10));  // the physical viscosity is nu; no artificial one by default
     p.delta = real(opt.number("delta", 0.1, 0, 1));
     p.nu = real(nu);
-    p.background_pressure = real(opt.number("background_pressure", 0, 0, 1e3) * double(p.rho0) * U * U);
     p.gravity = {0, 0, 0};
     const std::string kernel = opt.text("kernel", "wendland");
     if (kernel == "wendland") s.kernel = KernelType::wendland;
