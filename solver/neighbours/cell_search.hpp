@@ -98,14 +98,17 @@ struct CellSearch {
                 if (c.z + dz >= 0 && c.z + dz < g.nz) ++runs;
             return cols * (Merge ? 1 : runs);
         }
-        if (!Merge) return cols * (2 * N + 1);
-        for (int u = c.z - N; u <= c.z + N;) {  // the pieces of the wrapped run, as above
-            const int w0 = wrap_index(u, g.nz);
-            const int w1 = c.z + N - (u - w0) < g.nz - 1 ? c.z + N - (u - w0) : g.nz - 1;
-            ++runs;
-            u += w1 - w0 + 1;
+        if constexpr (Merge) {
+            for (int u = c.z - N; u <= c.z + N;) {  // the pieces of the wrapped run, as above
+                const int w0 = wrap_index(u, g.nz);
+                const int w1 = c.z + N - (u - w0) < g.nz - 1 ? c.z + N - (u - w0) : g.nz - 1;
+                ++runs;
+                u += w1 - w0 + 1;
+            }
+            return cols * runs;
+        } else {
+            return cols * (2 * N + 1);
         }
-        return cols * runs;
     }
 };
 
