@@ -2,6 +2,8 @@
 // a short run stays close to it, and the check is sharp enough to catch a wrong viscosity.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "core/error.hpp"
 #include "test_support.hpp"
 #include "validation/taylor_green.hpp"
@@ -50,6 +52,24 @@ TEST(TaylorGreen, ShortRunFollowsTheExactDecay) {
         const TaylorGreenError w = run_taylor_green(make_scene("taylor-green", opts), s, 0.1);
         EXPECT_GT(w.velocity_l2, 0.04) << "Re " << wrong_re << " passed for Re 20";
     }
+}
+
+}  // namespace
+}  // namespace sph
+
+namespace sph {
+namespace {
+
+// The convergence table of the report (not run by default; about a minute of CPU):
+//   build-p/tests/sph_tests --gtest_also_run_disabled_tests --gtest_filter='TaylorGreen.DISABLED_*'
+TEST(TaylorGreen, DISABLED_ErrorAtThreeResolutions) {
+    for (const char* re : {"100", "20"})
+        for (const char* res : {"16", "32", "64"}) {
+            const Scene s = make_scene("taylor-green", {{"resolution", res}, {"reynolds", re}});
+            const TaylorGreenError e = run_taylor_green(s, s, 0.1);
+            std::printf("Re %3s  resolution %2s  t 0.1 s  velocity_l2 %.4f  energy_decay_error %.4f\n", re, res,
+                        e.velocity_l2, e.energy_decay_error);
+        }
 }
 
 }  // namespace
