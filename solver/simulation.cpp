@@ -94,9 +94,9 @@ void Simulation::check_periodic_options() const {
         const double period = scene_.hi[a] - scene_.lo[a];
         if (scene_.periodic[a] && period < 2 * reach) {
             std::ostringstream m;
-            m << "Verlet lists need each periodic period to be at least twice the support plus skin (" << 2 * reach
-              << " m), but scene '" << scene_.name << "' is " << period << " m long in " << axis[a]
-              << "; drop --verlet and use a cell search";
+            m << "Verlet lists need each periodic axis to be at least 2 (support + skin) = " << 2 * reach
+              << " m long, but scene '" << scene_.name << "' is " << period << " m long in " << axis[a]
+              << "; drop --verlet (use a cell search) or lengthen the periodic box";
             throw InputError(m.str());
         }
     }
