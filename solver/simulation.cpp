@@ -17,16 +17,18 @@ ParticleArrays make_particle_arrays(const Scene& s, const Grid& g) {
     a.velrho.resize(n);
     a.cell.resize(n);
     a.id.resize(n);
-    const double cs = g.view.cell_size;
+    const double cs[3] = {g.view.cell_size.x, g.view.cell_size.y, g.view.cell_size.z};
     const int dims[3] = {g.view.nx, g.view.ny, g.view.nz};
+    const bool periodic[3] = {g.view.periodic_x, g.view.periodic_y, g.view.periodic_z};
     for (std::size_t i = 0; i < n; ++i) {
         int c[3];
         double off[3];
         bool inside = true;
         for (int k = 0; k < 3; ++k) {
             const double rel = s.position[i][k] - g.origin[k];
-            c[k] = int(std::floor(rel / cs));
-            off[k] = rel - c[k] * cs;
+            c[k] = int(std::floor(rel / cs[k]));
+            off[k] = rel - c[k] * cs[k];
+            if (periodic[k]) c[k] = wrap_index(c[k], dims[k]);  // a point outside the period is its image
             inside = inside && c[k] >= 0 && c[k] < dims[k];
         }
         const bool boundary = i < s.n_boundary;
@@ -41,7 +43,9 @@ ParticleArrays make_particle_arrays(const Scene& s, const Grid& g) {
 
 Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene_(scene), options_(options) {
     if (options_.cfl <= 0) options_.cfl = scene_.cfl;
-    grid_ = make_grid(scene_.lo.data(), scene_.hi.data(), scene_.params.support, options_.search.cells_per_support);
+    grid_ = make_grid(scene_.lo.data(), scene_.hi.data(), scene_.params.support, options_.search.cells_per_support,
+                      scene_.periodic.data());
+    check_periodic_options();
     if (double(grid_.view.nx) * grid_.view.ny * grid_.view.nz > 4.0e9)
         throw InputError("the domain of scene '" + scene_.name + "' needs more than 4e9 cells; use fewer cells per support");
     n_total_ = scene_.size();
@@ -74,6 +78,28 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
         d->clock().collect();
     }
     record_.stats = stats;
+}
+
+// What periodic axes cannot be combined with, refused before anything is allocated.
+void Simulation::check_periodic_options() const {
+    if (scene_.periodic[0] && options_.subdomains > 1)
+        throw InputError("scene '" + scene_.name + "' is periodic in x, which runs on one subdomain only (subdomains " +
+                         "are X slabs); set the number of devices (--devices) to 1");
+    if (!options_.search.verlet) return;
+    // A stored list keeps j, not which image of j: each period must hold at most one image
+    // within the list's reach.
+    const double reach = (1 + options_.search.skin) * scene_.params.support;
+    static const char* axis[] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+        const double period = scene_.hi[a] - scene_.lo[a];
+        if (scene_.periodic[a] && period < 2 * reach) {
+            std::ostringstream m;
+            m << "Verlet lists need each periodic axis to be at least 2 (support + skin) = " << 2 * reach
+              << " m long, but scene '" << scene_.name << "' is " << period << " m long in " << axis[a]
+              << "; drop --verlet (use a cell search) or lengthen the periodic box";
+            throw InputError(m.str());
+        }
+    }
 }
 
 void Simulation::make_subdomains(const ParticleArrays& all) {
@@ -135,6 +161,7 @@ double Simulation::next_dt() const {
     const double vmax = std::sqrt(double(record_.stats.max_speed2));
     double dt = p.h / (p.c0 + vmax);
     if (amax > 0) dt = std::min(dt, std::sqrt(p.h / amax));
+    if (p.nu > 0) dt = std::min(dt, 0.125 * double(p.h) * p.h / p.nu);  // viscous diffusion (Morris et al. 1997)
     return options_.cfl * dt;
 }
 
@@ -304,7 +331,7 @@ SnapshotData Simulation::to_snapshot(const std::vector<ParticleArrays>& parts) c
     SnapshotData s;
     s.time = record_.time;
     s.step = record_.step;
-    const double cs = grid_.view.cell_size;
+    const double cs[3] = {grid_.view.cell_size.x, grid_.view.cell_size.y, grid_.view.cell_size.z};
     for (const ParticleArrays& a : parts)
         for (std::size_t i = 0; i < a.size(); ++i) {
             if (is_ghost_id(a.id[i])) continue;  // a copy; its owner writes it
@@ -313,7 +340,7 @@ SnapshotData Simulation::to_snapshot(const std::vector<ParticleArrays>& parts) c
             const int cc[3] = {c.x, c.y, c.z};
             const real off[3] = {a.pos[i].x, a.pos[i].y, a.pos[i].z};
             for (int k = 0; k < 3; ++k)
-                s.position.push_back(out ? std::nan("") : grid_.origin[k] + cc[k] * cs + double(off[k]));
+                s.position.push_back(out ? std::nan("") : grid_.origin[k] + cc[k] * cs[k] + double(off[k]));
             s.velocity.push_back(float(a.velrho[i].x));
             s.velocity.push_back(float(a.velrho[i].y));
             s.velocity.push_back(float(a.velrho[i].z));

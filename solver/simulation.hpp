@@ -87,6 +87,7 @@ public:
 
 private:
     double next_dt() const;
+    void check_periodic_options() const;
     real verlet_skin() const;
     bool verlet_list_expired(double dt);
     void make_subdomains(const ParticleArrays& all);

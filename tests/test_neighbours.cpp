@@ -53,12 +53,11 @@ TEST_P(NeighbourSearch, FindsExactlyTheBruteForceSet) {
     PairSet found;
     dispatch_search(opt, [&](auto tag) {
         using Search = typename decltype(tag)::type;
-        const real cs = g.view.cell_size;
+        const real3 cs = g.view.cell_size;
         for (std::uint32_t i = 0; i < a.size(); ++i) {
             Search::visit(g.view, start.data(), a.cell.data(), g.view.decode(a.cell[i]),
                           [&](std::uint32_t j, int dx, int dy, int dz) {
-                              const real3 r = make3(a.pos[i].x - a.pos[j].x - dx * cs, a.pos[i].y - a.pos[j].y - dy * cs,
-                                                    a.pos[i].z - a.pos[j].z - dz * cs);
+                              const real3 r = separation(a.pos[i], a.pos[j], dx, dy, dz, cs);
                               const real r2 = dot(r, r);
                               if (r2 < s.params.support2 && r2 > real(1e-18) * s.params.support2)
                                   found.insert({a.id[i], a.id[j]});

@@ -13,6 +13,7 @@ struct PhysicsParams {
     real c0 = 0;            // reference sound speed
     real tait_b = 0;        // Tait B = c0^2 rho0 / gamma
     real alpha = 0.1;       // Monaghan artificial viscosity coefficient
+    real nu = 0;            // kinematic viscosity of the laminar (Lo and Shao) term, m^2/s (0: off)
     real delta = 0.1;       // delta-SPH density diffusion coefficient (0: off)
     real eta2 = 0;          // 0.01 h^2, keeps viscosity and diffusion finite at r -> 0
     real3 gravity{0, 0, -9.81};

@@ -7,6 +7,12 @@
 //   CellSearch<n, merge>  Smaller Cell: cells of support / n, (2n+1)^3 cells or (2n+1)^2 ranges
 // visit(j, dx, dy, dz) receives each candidate and the cell offset of its cell relative to
 // the particle's own cell (what turns cell-relative offsets into a separation vector).
+//
+// Periodic axes: a stencil cell past a periodic face is read at its wrapped index but
+// reported with the unwrapped offset, so the separation is the one to that image of j. On
+// a grid of fewer than 2n+1 cells along a periodic axis the stencil reaches the same cell
+// at several offsets: each is a different image of its particles (self-images included),
+// which is the periodic sum, so nothing is visited twice at the same separation.
 #include "neighbours/grid.hpp"
 
 namespace sph {
@@ -24,13 +30,21 @@ struct CellSearch {
         const int z0 = c.z - N < 0 ? 0 : c.z - N;
         const int z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
         for (int dx = -N; dx <= N; ++dx) {
-            const int x = c.x + dx;
-            if (x < 0 || x >= g.nx) continue;
+            int x = c.x + dx;
+            if (x < 0 || x >= g.nx) {
+                if (!g.periodic_x) continue;
+                x = wrap_index(x, g.nx);
+            }
             for (int dy = -N; dy <= N; ++dy) {
-                const int y = c.y + dy;
-                if (y < 0 || y >= g.ny) continue;
+                int y = c.y + dy;
+                if (y < 0 || y >= g.ny) {
+                    if (!g.periodic_y) continue;
+                    y = wrap_index(y, g.ny);
+                }
                 const std::uint32_t column = g.encode(x, y, 0);
-                if constexpr (Merge) {
+                if (g.periodic_z) {
+                    visit_periodic_column(g, cell_start, cell, c.z, column, dx, dy, visit);
+                } else if constexpr (Merge) {
                     const std::uint32_t end = cell_start[column + z1 + 1];
                     const int ref = int(column) + c.z;
                     for (std::uint32_t j = cell_start[column + z0]; j < end; ++j) visit(j, dx, dy, int(cell[j]) - ref);
@@ -41,6 +55,59 @@ struct CellSearch {
                     }
                 }
             }
+        }
+    }
+
+    // One (x, y) column along a periodic z. Merged, the unwrapped run [cz - N, cz + N] is cut
+    // where it crosses a periodic face: each piece lies in one image of the grid (shifted by
+    // image * nz cells) and is one contiguous particle range. Unmerged, each cell on its own.
+    template <class Visit>
+    SPH_HD static void visit_periodic_column(const GridView& g, const std::uint32_t* cell_start,
+                                             const std::uint32_t* cell, int cz, std::uint32_t column, int dx, int dy,
+                                             Visit& visit) {
+        if constexpr (Merge) {
+            for (int u = cz - N; u <= cz + N;) {
+                const int w0 = wrap_index(u, g.nz);
+                const int shift = u - w0;  // image * nz
+                const int w1 = cz + N - shift < g.nz - 1 ? cz + N - shift : g.nz - 1;
+                const std::uint32_t end = cell_start[column + w1 + 1];
+                const int ref = int(column) + cz - shift;
+                for (std::uint32_t j = cell_start[column + w0]; j < end; ++j) visit(j, dx, dy, int(cell[j]) - ref);
+                u += w1 - w0 + 1;
+            }
+        } else {
+            for (int dz = -N; dz <= N; ++dz) {
+                const int z = wrap_index(cz + dz, g.nz);
+                const std::uint32_t end = cell_start[column + z + 1];
+                for (std::uint32_t j = cell_start[column + z]; j < end; ++j) visit(j, dx, dy, dz);
+            }
+        }
+    }
+
+    // How many particle ranges visit() reads around cell c (cells, or merged z-runs).
+    SPH_HD static unsigned ranges(const GridView& g, int3v c) {
+        unsigned cols = 0, runs = 0;
+        for (int dx = -N; dx <= N; ++dx)
+            for (int dy = -N; dy <= N; ++dy) {
+                const bool x_ok = g.periodic_x || (c.x + dx >= 0 && c.x + dx < g.nx);
+                const bool y_ok = g.periodic_y || (c.y + dy >= 0 && c.y + dy < g.ny);
+                if (x_ok && y_ok) ++cols;
+            }
+        if (!g.periodic_z) {
+            for (int dz = -N; dz <= N; ++dz)
+                if (c.z + dz >= 0 && c.z + dz < g.nz) ++runs;
+            return cols * (Merge ? 1 : runs);
+        }
+        if constexpr (Merge) {
+            for (int u = c.z - N; u <= c.z + N;) {  // the pieces of the wrapped run, as above
+                const int w0 = wrap_index(u, g.nz);
+                const int w1 = c.z + N - (u - w0) < g.nz - 1 ? c.z + N - (u - w0) : g.nz - 1;
+                ++runs;
+                u += w1 - w0 + 1;
+            }
+            return cols * runs;
+        } else {
+            return cols * (2 * N + 1);
         }
     }
 };

@@ -2,13 +2,26 @@
 // The uniform cell grid of a subdomain. Cells are numbered z fastest, then y, then x (the
 // paper's order), so a run of z-neighbouring cells is one contiguous particle range and an
 // X slab of cell slices is one contiguous range of the sorted particle arrays.
+//
+// An axis may be periodic: the grid then spans the domain [lo, hi) along it exactly, cell
+// index nx wraps to 0, and a neighbour found across the face is given the unwrapped cell
+// offset, so that separations come out right without touching positions.
 #include "core/types.hpp"
 
 namespace sph {
 
+// i mod n in [0, n), for any sign of i.
+SPH_HD int wrap_index(int i, int n) {
+    i %= n;
+    return i < 0 ? i + n : i;
+}
+
 struct GridView {
     int nx = 1, ny = 1, nz = 1;
-    real cell_size = 1;
+    // Per axis: support / n on open axes; on a periodic axis the cells stretch slightly so
+    // that a whole number of them spans the period (see make_grid).
+    real3 cell_size{1, 1, 1};
+    bool periodic_x = false, periodic_y = false, periodic_z = false;
 
     SPH_HD std::uint32_t cell_count() const { return std::uint32_t(nx) * ny * nz; }
     // The sentinel cell of particles that left the domain: they sort after every real cell.
@@ -24,6 +37,15 @@ struct GridView {
     SPH_HD bool inside(int x, int y, int z) const {
         return x >= 0 && y >= 0 && z >= 0 && x < nx && y < ny && z < nz;
     }
+    SPH_HD bool any_periodic() const { return periodic_x || periodic_y || periodic_z; }
+    // Brings a cell coordinate that crossed a periodic face back into the grid; coordinates
+    // on open axes are left as they are (inside() then decides).
+    SPH_HD int3v wrap_periodic(int3v c) const {
+        if (periodic_x) c.x = wrap_index(c.x, nx);
+        if (periodic_y) c.y = wrap_index(c.y, ny);
+        if (periodic_z) c.z = wrap_index(c.z, nz);
+        return c;
+    }
 };
 
 // Host-side description: the grid plus where it sits in the world (in double precision,
@@ -31,10 +53,13 @@ struct GridView {
 struct Grid {
     GridView view;
     double origin[3] = {0, 0, 0};
-    int cells_per_support = 1;  // Smaller Cell's n: cell size = support / n
+    int cells_per_support = 1;  // Smaller Cell's n: cell size = support / n (or a little more, periodic)
 };
 
-// Builds the grid that covers [lo, hi] with cells of support / n.
-Grid make_grid(const double lo[3], const double hi[3], double support, int cells_per_support);
+// Builds the grid that covers [lo, hi] with cells of support / n. Along an axis whose
+// periodic[axis] is set, [lo, hi) is the period: it is cut into the largest whole number of
+// cells no smaller than support / n (at least one), so the cell size there may grow slightly.
+Grid make_grid(const double lo[3], const double hi[3], double support, int cells_per_support,
+               const bool periodic[3] = nullptr);
 
 }  // namespace sph

@@ -4,6 +4,8 @@
 //               if its offset left the cell; P/rho^2 is refreshed for the next force loop)
 //   forces at the new positions
 //   kick:       v += dt/2 a;  rho += dt/2 drho
+// A particle that drifts through a periodic face re-enters on the other side: its cell
+// index wraps and its offset inside the cell is kept.
 // Boundary particles only integrate density (dynamic boundary), floored at rho0 as in
 // DualSPHysics. Particles outside the domain are frozen and take no part.
 #include "core/equation_of_state.hpp"
@@ -42,9 +44,10 @@ SPH_HD void particle_kick_drift(std::uint32_t i, real4* pos, real4* velrho, std:
         ps.y += dt * vr.y;
         ps.z += dt * vr.z;
         int3v cc = g.decode(c);
-        wrap_into_cell(ps.x, cc.x, g.cell_size);
-        wrap_into_cell(ps.y, cc.y, g.cell_size);
-        wrap_into_cell(ps.z, cc.z, g.cell_size);
+        wrap_into_cell(ps.x, cc.x, g.cell_size.x);
+        wrap_into_cell(ps.y, cc.y, g.cell_size.y);
+        wrap_into_cell(ps.z, cc.z, g.cell_size.z);
+        if (g.any_periodic()) cc = g.wrap_periodic(cc);
         cell[i] = g.inside(cc.x, cc.y, cc.z) ? g.encode(cc.x, cc.y, cc.z) : g.out_of_domain();
         velrho[i] = vr;
     }

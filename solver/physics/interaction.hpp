@@ -2,7 +2,10 @@
 // The pair interaction of weakly compressible SPH, written once for both backends:
 //   continuity  d rho_i/dt = sum_j m (v_i - v_j) . grad W_ij   (+ delta-SPH diffusion, fluid pairs)
 //   momentum    dv_i/dt    = -sum_j m (P_i/rho_i^2 + P_j/rho_j^2 + Pi_ij) grad W_ij + g
-// with Monaghan's artificial viscosity Pi_ij. Boundary particles (dynamic boundary
+// with Monaghan's artificial viscosity Pi_ij, plus, when nu > 0, the laminar viscosity of
+// Lo and Shao (2002) (Morris et al. 1997 with a constant nu):
+//   dv_i/dt  += sum_j m 4 nu (r_ij . grad W_ij) / ((rho_i + rho_j)(r_ij^2 + eta^2)) v_ij
+// which makes a Newtonian flow have the viscosity nu. Boundary particles (dynamic boundary
 // conditions) gather density from fluid neighbours only and do not move.
 #include "core/params.hpp"
 #include "core/particle.hpp"
@@ -28,14 +31,14 @@ struct PairSums {
     const Kernel& kernel;
     real4 pos_i, vr_i;
     bool fluid_i;
-    real rho_i, diffusion_coef, visc_coef;
+    real rho_i, diffusion_coef, visc_coef, laminar_coef;
     real3 acc{0, 0, 0};
     real drho = 0;
 
     SPH_HD PairSums(std::uint32_t i, const ForceInputs& in_, const PhysicsParams& p_, const Kernel& k)
         : in(in_), p(p_), kernel(k), pos_i(in_.pos[i]), vr_i(in_.velrho[i]), fluid_i(!is_boundary(vr_i)),
           rho_i(density(vr_i)), diffusion_coef(Diffusion ? 2 * p_.delta * p_.h * p_.c0 * p_.mass : real(0)),
-          visc_coef(p_.alpha * p_.h * p_.c0) {}
+          visc_coef(p_.alpha * p_.h * p_.c0), laminar_coef(4 * p_.nu * p_.mass) {}
 
     SPH_HD void add(std::uint32_t j, const real3& rij, real r2) {
         if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
@@ -54,22 +57,50 @@ struct PairSums {
             if (vdotr < 0) pi_ij = -visc_coef * vdotr / ((r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
             const real s = -p.mass * (pos_i.w + in.pos[j].w + pi_ij) * fac;
             acc += s * rij;
+            // A uniform runtime branch rather than a template flag: compiling the laminar term
+            // out would double the force kernels' instantiations (kernel x search x diffusion)
+            // and the CUDA compile time, and every thread takes the same side.
+            if (p.nu > 0) acc += (laminar_coef * r2 * fac / ((rho_i + rho_j) * (r2 + p.eta2))) * vij;
         }
     }
     SPH_HD real4 result() const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
 };
 
 // x_i - x_j from cell-relative offsets: (cell_i - cell_j) * cs + off_i - off_j, exact in the
-// cell part. (dx, dy, dz) = cell_j - cell_i.
-SPH_HD real3 separation(const real4& pi, const real4& pj, int dx, int dy, int dz, real cs) {
-    return make3(pi.x - pj.x - dx * cs, pi.y - pj.y - dy * cs, pi.z - pj.z - dz * cs);
+// cell part. (dx, dy, dz) = cell_j - cell_i, unwrapped across periodic faces.
+SPH_HD real3 separation(const real4& pi, const real4& pj, int dx, int dy, int dz, const real3& cs) {
+    return make3(pi.x - pj.x - dx * cs.x, pi.y - pj.y - dy * cs.y, pi.z - pj.z - dz * cs.z);
+}
+
+// One component of the minimum-image separation along a periodic axis of n cells of size cs:
+// d = cell_j - cell_i as stored (wrapped), first brought to the nearest image in whole cells,
+// then folded once more if the offsets put the other image closer.
+SPH_HD real nearest_image(real off_i, real off_j, int d, int n, real cs) {
+    if (2 * d > n) d -= n;
+    else if (2 * d < -n) d += n;
+    real r = off_i - off_j - d * cs;
+    const real period = n * cs;
+    if (2 * r > period) r -= period;
+    else if (2 * r < -period) r += period;
+    return r;
+}
+
+// x_i - x_j of two particles whose cells are known only as indices (stored lists): the
+// plain difference on open axes, the minimum image on periodic ones (a stored list is only
+// allowed when each period is at least twice the list's reach, so that image is unique).
+SPH_HD real3 listed_separation(const real4& pi, const real4& pj, int3v ci, int3v cj, const GridView& g) {
+    real3 r = separation(pi, pj, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, g.cell_size);
+    if (g.periodic_x) r.x = nearest_image(pi.x, pj.x, cj.x - ci.x, g.nx, g.cell_size.x);
+    if (g.periodic_y) r.y = nearest_image(pi.y, pj.y, cj.y - ci.y, g.ny, g.cell_size.y);
+    if (g.periodic_z) r.z = nearest_image(pi.z, pj.z, cj.z - ci.z, g.nz, g.cell_size.z);
+    return r;
 }
 
 // Returns (acceleration, d rho / dt) of particle i, visiting candidates cell by cell.
 template <class Kernel, class Search, bool Diffusion>
 SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p, const Kernel& kernel) {
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
-    const real cs = in.grid.cell_size;
+    const real3 cs = in.grid.cell_size;
     Search::visit(in.grid, in.cell_start, in.cell, in.grid.decode(in.cell[i]),
                   [&](std::uint32_t j, int dx, int dy, int dz) {
                       const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
@@ -92,13 +123,12 @@ template <class Kernel, bool Diffusion>
 SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const NeighbourList& list,
                                    const PhysicsParams& p, const Kernel& kernel) {
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
-    const real cs = in.grid.cell_size;
     const int3v ci = in.grid.decode(in.cell[i]);
     const std::uint32_t n = list.count[i];
     for (std::uint32_t k = 0; k < n; ++k) {
         const std::uint32_t j = list.index[std::size_t(k) * list.stride + i];
         const int3v cj = in.grid.decode(in.cell[j]);
-        const real3 rij = separation(sums.pos_i, in.pos[j], cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, cs);
+        const real3 rij = listed_separation(sums.pos_i, in.pos[j], ci, cj, in.grid);
         sums.add(j, rij, dot(rij, rij));
     }
     return sums.result();
@@ -111,7 +141,7 @@ SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in,
                                          std::uint32_t stride, std::uint32_t capacity) {
     std::uint32_t n = 0;
     const real4 pi = in.pos[i];
-    const real cs = in.grid.cell_size;
+    const real3 cs = in.grid.cell_size;
     Search::visit(in.grid, in.cell_start, in.cell, in.grid.decode(in.cell[i]),
                   [&](std::uint32_t j, int dx, int dy, int dz) {
                       if (j == i) return;
@@ -132,24 +162,17 @@ template <class Search>
 SPH_HD SearchWork particle_search_work(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p) {
     SearchWork w;
     const real3 off_i = xyz(in.pos[i]);
-    const real cs = in.grid.cell_size;
+    const real3 cs = in.grid.cell_size;
     const int3v c = in.grid.decode(in.cell[i]);
     Search::visit(in.grid, in.cell_start, in.cell, c, [&](std::uint32_t j, int dx, int dy, int dz) {
         const real4 pj = in.pos[j];
-        const real3 rij = make3(off_i.x - pj.x - dx * cs, off_i.y - pj.y - dy * cs, off_i.z - pj.z - dz * cs);
+        const real3 rij = make3(off_i.x - pj.x - dx * cs.x, off_i.y - pj.y - dy * cs.y, off_i.z - pj.z - dz * cs.z);
         const real r2 = dot(rij, rij);
         ++w.candidates;
         if (r2 < p.support2 && r2 > real(1e-18) * p.support2) ++w.neighbours;
     });
-    // Ranges visited: one per cell (or per merged z-run) of the stencil that lies in the grid.
-    const int n = Search::n;
-    int cols = 0, runs = 0;
-    for (int dx = -n; dx <= n; ++dx)
-        for (int dy = -n; dy <= n; ++dy)
-            if (in.grid.inside(c.x + dx, c.y + dy, 0)) ++cols;
-    for (int dz = -n; dz <= n; ++dz)
-        if (c.z + dz >= 0 && c.z + dz < in.grid.nz) ++runs;
-    w.ranges = (unsigned long long)cols * (Search::merge ? 1 : runs);
+    // Ranges visited: one per cell (or per merged z-run piece) of the stencil in the grid.
+    w.ranges = Search::ranges(in.grid, c);
     return w;
 }
 

@@ -18,6 +18,7 @@ struct Scene {
     KernelType kernel = KernelType::wendland;
     double dp = 0;                        // lattice spacing
     std::array<double, 3> lo{}, hi{};     // domain: particles leaving it are counted and dropped
+    std::array<bool, 3> periodic{};       // per axis: [lo, hi) is one period, particles wrap around
     std::vector<std::array<double, 3>> position;
     std::vector<std::array<float, 3>> velocity;
     std::vector<float> density;           // empty: rho0 everywhere

@@ -8,6 +8,7 @@ Scene make_dambreak(SceneOptions&);
 Scene make_tank(SceneOptions&);
 Scene make_armadillo(SceneOptions&);
 Scene make_bunny(SceneOptions&);
+Scene make_taylor_green(SceneOptions&);
 
 const std::vector<SceneInfo>& scene_catalogue() {
     static const std::vector<SceneInfo> scenes = {
@@ -18,6 +19,8 @@ const std::vector<SceneInfo>& scene_catalogue() {
         {"dsph-dambreak", "DualSPHysics' example 01_DamBreak: tank, water column and obstacle, its parameters",
          make_dsph_dambreak},
         {"tank", "still water in an open tank, started hydrostatic", make_tank},
+        {"taylor-green", "the decaying 2D Taylor-Green vortex in a periodic box (exact solution in time)",
+         make_taylor_green},
     };
     return scenes;
 }
