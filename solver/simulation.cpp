@@ -189,13 +189,15 @@ const StepRecord& Simulation::step() {
     if (stats.bad_id != 0xffffffffu) {
         static const char* what[] = {"", "a non-finite acceleration or density rate", "a speed above the limit",
                                      "a density outside the limits"};
+        static const char* quantity[] = {"", "acceleration", "speed", "density"};
+        const std::uint32_t kind = std::min<std::uint32_t>(stats.bad_what, 3);
         std::ostringstream m;
         m << "the run blew up at step " << n << " (t = " << record_.time + dt << " s): particle " << stats.bad_id
-          << " has " << what[std::min<std::uint32_t>(stats.bad_what, 3)] << " (speed limit " << limits_.max_speed
+          << " has " << what[kind] << " (speed limit " << limits_.max_speed
           << " m/s, density limits " << limits_.min_density << " to " << limits_.max_density << " kg/m^3)";
         SnapshotData last = snapshot();
         last.step = n;
-        throw BlowUpError(m.str(), std::move(last));
+        throw BlowUpError(m.str(), std::move(last), n, stats.bad_id, quantity[kind]);
     }
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::integrate, n, d);
