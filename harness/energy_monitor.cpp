@@ -49,4 +49,9 @@ EnergySample measure_energy(const SnapshotData& s, const PhysicsParams& p, doubl
     return e;
 }
 
+double energy_scale(const EnergySample& e0, const Scene& scene) {
+    const double g = std::fabs(double(scene.params.gravity.z));
+    return e0.kinetic + e0.potential - e0.fluid_mass * g * (e0.lowest_fluid - 0.5 * scene.dp);
+}
+
 }  // namespace sph

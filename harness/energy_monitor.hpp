@@ -13,6 +13,7 @@
 // integrator's error, is the drift the studies report.
 #include "core/params.hpp"
 #include "io/snapshot_writer.hpp"
+#include "scenes/scene.hpp"
 
 namespace sph {
 
@@ -36,5 +37,9 @@ struct EnergySample {
 double tait_internal_energy(const PhysicsParams& p, double rho);
 
 EnergySample measure_energy(const SnapshotData& state, const PhysicsParams& params, double dp);
+
+// What drifts are divided by: the initial kinetic energy plus the potential energy above the
+// lowest fluid particle's floor (its z less dp/2), independent of the world's origin.
+double energy_scale(const EnergySample& initial, const Scene& scene);
 
 }  // namespace sph

@@ -102,11 +102,11 @@ void energy_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
         const Scene scene = make_scene(run.scene, run.scene_options);
         std::vector<EnergySample> samples;
         TrialOutcome t = run_trial(scene, run.solver, TrialTarget{st.time, run.steps, !quiet}, st.sample_every, &samples);
-        // Drifts relative to the water's initial potential energy above its lowest point (the
-        // floor for still water), so that they do not depend on where the world's origin is.
+        // Drifts relative to the energy the water can spend: its initial kinetic energy plus its
+        // potential energy above its lowest point (the floor for still water), which does not
+        // depend on where the world's origin is.
         const EnergySample& e0 = samples.front();
-        const double g = std::fabs(double(scene.params.gravity.z));
-        const double scale = e0.potential - e0.fluid_mass * g * (e0.lowest_fluid - 0.5 * scene.dp);
+        const double scale = energy_scale(e0, scene);
         const std::string series = run.run_id + "_energy.csv";
         Metadata m = meta;
         m.emplace_back("run_id", run.run_id);

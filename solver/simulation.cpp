@@ -1,6 +1,7 @@
 #include "simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -41,7 +42,20 @@ ParticleArrays make_particle_arrays(const Scene& s, const Grid& g) {
 
 Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene_(scene), options_(options) {
     if (options_.cfl <= 0) options_.cfl = scene_.cfl;
-    grid_ = make_grid(scene_.lo.data(), scene_.hi.data(), scene_.params.support, options_.search.cells_per_support);
+    std::array<double, 3> lo = scene_.lo, hi = scene_.hi;
+    if (options_.grid_fits_particles && scene_.size() > 0) {
+        std::array<double, 3> plo = scene_.position.front(), phi = plo;
+        for (const auto& x : scene_.position)
+            for (int k = 0; k < 3; ++k) {
+                plo[k] = std::min(plo[k], x[k]);
+                phi[k] = std::max(phi[k], x[k]);
+            }
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::max(lo[k], plo[k] - double(scene_.params.support));
+            hi[k] = std::min(hi[k], phi[k] + double(scene_.params.support));
+        }
+    }
+    grid_ = make_grid(lo.data(), hi.data(), scene_.params.support, options_.search.cells_per_support);
     if (double(grid_.view.nx) * grid_.view.ny * grid_.view.nz > 4.0e9)
         throw InputError("the domain of scene '" + scene_.name + "' needs more than 4e9 cells; use fewer cells per support");
     n_total_ = scene_.size();

@@ -30,6 +30,10 @@ struct SolverOptions {
     bool diffusion = true;  // false compiles the delta-SPH term out
     double max_speed_factor = 1.0;  // a fluid speed above this times c0 is a blow-up
     bool timing = true;  // false: no CUDA events (profiling passes); NVTX ranges stay
+    // true: the grid covers the particles' initial bounding box grown by one support (within
+    // the scene's domain) instead of the whole domain: fewer cells to sort into and scan, for
+    // scenes whose walls enclose every particle; fluid leaving that box is dropped.
+    bool grid_fits_particles = false;
 };
 
 struct StepRecord {
