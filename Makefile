@@ -46,9 +46,12 @@ perf-check: build
 
 # Stability studies (experiments/stability-*.toml, `sphbench stability`): CFL limits, still
 # water, impacts, the armadillo collapse; on the host at a reduced scale, a few minutes.
+# The host's reduced-scale scenes have 2,000 to 35,000 particles: one OpenMP thread is faster
+# there than two (a step has a dozen parallel loops of microseconds each).
 STABILITY_STUDIES := stability-cfl stability-still-water stability-impact stability-armadillo
+STABILITY_THREADS ?= 1
 stability: build
-	@for s in $(STABILITY_STUDIES); do $(SPHBENCH) stability experiments/$$s.toml --quiet || exit $$?; done
+	@for s in $(STABILITY_STUDIES); do OMP_NUM_THREADS=$(STABILITY_THREADS) $(SPHBENCH) stability experiments/$$s.toml --quiet || exit $$?; done
 	$(PYTHON) plots/stability.py
 
 # What skipping unneeded work saves: diffusion compiled out, boundary not integrated, grid over

@@ -54,7 +54,7 @@ def draw_still(ax, run, df):
     dp = float(run["dp"])
     ax.plot(df["time"], 100 * df["total_drift"], color="#1f77b4", label="total energy")
     ax.set_xlabel("simulated time (s)")
-    ax.set_ylabel("energy drift (% of initial)", color="#1f77b4")
+    ax.set_ylabel("energy drift (% of energy scale)", color="#1f77b4")
     twin = ax.twinx()
     twin.plot(df["time"], df["free_surface_drift"] / dp, color="#d95f02", label="free surface")
     twin.set_ylabel("free-surface drift (spacings)", color="#d95f02")
@@ -70,7 +70,7 @@ def draw_energy_runs(ax, summary, data, title):
         if blew:
             ax.plot(df["time"].iloc[-1], 100 * df["total_drift"].iloc[-1], "x", color=line.get_color(), ms=8)
     ax.set_xlabel("simulated time (s)")
-    ax.set_ylabel("total energy drift (% of initial)")
+    ax.set_ylabel("total energy drift (% of energy scale)")
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7)
 
