@@ -2,6 +2,9 @@
 energy and free surface in still water, high-speed impacts and the armadillo collapse, from
 the tables `sphbench stability` writes under results/stability-*/.
 
+Energy drifts are in percent of the "energy scale" (summary.csv's energy_scale): the initial
+kinetic energy plus the potential energy above the lowest fluid particle's floor.
+
 Usage: python3 plots/stability.py [--results results] [--out plots/out]
 """
 import argparse
