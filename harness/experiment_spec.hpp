@@ -36,7 +36,7 @@
 //     steps = 100                      #   replaces steps
 //   [stability]                        # optional; makes the spec a study for `sphbench stability`
 //     probe = "cfl-limit"              #   "cfl-limit" (bisection over cfl) or "energy" (time series)
-//     time = 0.5                       #   simulated seconds a run must reach (0: `steps` steps);
+//     time = 0.5                       #   simulated seconds a run must reach (absent: `steps` steps);
 //                                      #   `steps` is then the most steps a run may take
 //     cfl_low = 0.05                   #   cfl-limit: a bracket whose low end should be stable
 //     cfl_high = 4.0                   #   ... and whose high end should not
