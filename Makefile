@@ -7,7 +7,7 @@ CMAKE_ARGS ?=
 SPHBENCH := $(BUILD)/harness/sphbench
 PYTHON ?= python3
 
-.PHONY: all deps configure build test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl table-vl perf-check clean
+.PHONY: all deps configure build test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl table-vl perf-check stability skip-bench clean
 
 all: build
 
@@ -48,6 +48,21 @@ figures: fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 table-vl
 perf-check: build
 	$(SPHBENCH) run experiments/perf-smoke.toml --backend host --out results/perf-check --force
 	$(SPHBENCH) compare results/reference/host/perf-smoke results/perf-check/perf-smoke --metrics counters
+
+# Stability studies (experiments/stability-*.toml, `sphbench stability`): CFL limits, still
+# water, impacts, the armadillo collapse; on the host at a reduced scale, a few minutes.
+# The host's reduced-scale scenes have 2,000 to 35,000 particles: one OpenMP thread is faster
+# there than two (a step has a dozen parallel loops of microseconds each).
+STABILITY_STUDIES := stability-cfl stability-still-water stability-impact stability-armadillo
+STABILITY_THREADS ?= 1
+stability: build
+	@for s in $(STABILITY_STUDIES); do OMP_NUM_THREADS=$(STABILITY_THREADS) $(SPHBENCH) stability experiments/$$s.toml --quiet || exit $$?; done
+	$(PYTHON) plots/stability.py
+
+# What skipping unneeded work saves: diffusion compiled out, boundary not integrated, grid over
+# the particles' bounding box (bench/skip_bench.cpp; CUDA when a GPU is present).
+skip-bench: build
+	$(BUILD)/bench/sph_skip_bench --benchmark_out=results/skip_bench.json --benchmark_out_format=json
 
 clean:
 	rm -rf $(BUILD)

@@ -15,6 +15,7 @@ void add_info_command(CLI::App& app, CommandContext& ctx);
 void add_run_command(CLI::App& app, CommandContext& ctx);
 void add_list_command(CLI::App& app, CommandContext& ctx);
 void add_compare_command(CLI::App& app, CommandContext& ctx);
+void add_stability_command(CLI::App& app, CommandContext& ctx);
 
 // Exit codes of every command.
 constexpr int exit_ok = 0;

@@ -193,7 +193,7 @@ ExperimentSpec load_spec(const std::string& path) {
     }
     r.check_keys(doc,
                  {"name", "reproduces", "description", "steps", "warmup", "repetitions", "seed", "record",
-                  "snapshot_every", "solver", "runs", "sweep", "host"},
+                  "snapshot_every", "solver", "runs", "sweep", "host", "stability"},
                  "the top level");
     ExperimentSpec spec;
     spec.path = path;
@@ -263,6 +263,24 @@ ExperimentSpec load_spec(const std::string& path) {
         h.scale = r.number(*t, "scale", 1.0, 0.0);
         h.steps = long(r.integer(*t, "steps", false, 0, 1, "[host]"));
         spec.host = h;
+    }
+
+    if (const toml::node* st = doc.get("stability")) {
+        const toml::table* t = st->as_table();
+        if (!t) r.fail(st->source(), "'stability' must be a table, not " + SpecReader::type_name(*st));
+        const std::string where = "[stability]";
+        r.check_keys(*t, {"probe", "time", "cfl_low", "cfl_high", "bisections", "sample_every"}, where);
+        StabilityStudy s;
+        s.probe = r.text(*t, "probe", true, "", where);
+        if (s.probe != "cfl-limit" && s.probe != "energy")
+            r.fail(t->get("probe")->source(), "'probe' must be \"cfl-limit\" or \"energy\", not '" + s.probe + "'");
+        s.time = t->get("time") ? r.number(*t, "time", 0, 0.0) : 0.0;
+        s.cfl_low = r.number(*t, "cfl_low", s.cfl_low, 0.0);
+        s.cfl_high = r.number(*t, "cfl_high", s.cfl_high, 0.0);
+        if (s.cfl_high <= s.cfl_low) r.fail(t->source(), "'cfl_high' must be greater than 'cfl_low'");
+        s.bisections = long(r.integer(*t, "bisections", false, s.bisections, 1, where));
+        s.sample_every = long(r.integer(*t, "sample_every", false, s.sample_every, 1, where));
+        spec.stability = s;
     }
     return spec;
 }

@@ -35,6 +35,14 @@
 //   [host]                             # optional; when a run's backend resolves to the host:
 //     scale = 0.01                     #   particle counts times this (dp over its cube root)
 //     steps = 100                      #   replaces steps
+//   [stability]                        # optional; makes the spec a study for `sphbench stability`
+//     probe = "cfl-limit"              #   "cfl-limit" (bisection over cfl) or "energy" (time series)
+//     time = 0.5                       #   simulated seconds a run must reach (absent: `steps` steps);
+//                                      #   `steps` is then the most steps a run may take
+//     cfl_low = 0.05                   #   cfl-limit: a bracket whose low end should be stable
+//     cfl_high = 4.0                   #   ... and whose high end should not
+//     bisections = 6                   #   cfl-limit: halvings of the bracket
+//     sample_every = 100               #   energy: an energy and free-surface sample every K steps
 //
 // Anything else is refused with an InputError naming the file, the line and the key.
 #include <map>
@@ -65,6 +73,14 @@ struct HostReduction {
     long steps = 0;  // 0: keep the spec's steps
 };
 
+struct StabilityStudy {
+    std::string probe;  // "cfl-limit" or "energy"
+    double time = 0;    // simulated time a run must reach; 0: run `steps` steps
+    double cfl_low = 0.05, cfl_high = 4.0;
+    long bisections = 6;
+    long sample_every = 100;
+};
+
 struct ExperimentSpec {
     std::string path, name, reproduces, description;
     long steps = 0, warmup = 0, repetitions = 1;
@@ -75,6 +91,7 @@ struct ExperimentSpec {
     std::vector<RunSpec> runs;
     std::vector<SweepAxis> sweep;  // ordered by key
     std::optional<HostReduction> host;
+    std::optional<StabilityStudy> stability;  // only `sphbench stability` runs these
 
     bool records(const std::string& item) const;
 };

@@ -35,7 +35,9 @@ void list_specs(const ListArgs& a, CommandContext& ctx) {
             const ExperimentSpec spec = load_spec(path);
             // Runs as planned without a GPU or overrides: the count does not depend on them.
             const std::size_t runs = expand(spec, ExpandOptions{}).size();
-            const bool done = fs::exists(fs::path(experiment_dir(a.results, spec)) / "runs.csv");
+            // `sphbench run` writes runs.csv last; `sphbench stability` writes summary.csv last.
+            const char* last_written = spec.stability ? "summary.csv" : "runs.csv";
+            const bool done = fs::exists(fs::path(experiment_dir(a.results, spec)) / last_written);
             std::printf("%-16s %5zu  %-9s %s\n", spec.name.c_str(), runs, done ? "yes" : "no", spec.reproduces.c_str());
         } catch (const InputError& e) {
             std::printf("%-16s %5s  %-9s invalid spec: %s\n", fs::path(path).stem().string().c_str(), "-", "-", e.what());

@@ -7,9 +7,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <fstream>
+#include <sstream>
 #include <memory>
 
 #include "backend/subdomain.hpp"
+#include "experiment_spec.hpp"
 
 #ifndef SPH_GIT_COMMIT
 #define SPH_GIT_COMMIT "unknown"
@@ -63,6 +66,14 @@ BuildInfo build_info() {
     b.cuda_compiled = "no";
 #endif
     return b;
+}
+
+std::string binary_hash() {
+    std::ifstream in("/proc/self/exe", std::ios::binary);
+    if (!in) return "unknown";
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return fnv1a_hex(bytes.str());
 }
 
 std::string utc_now() {

@@ -17,6 +17,8 @@ BuildInfo build_info();
 Metadata provenance(const std::string& backend, const std::string& devices, const std::string& command_line);
 
 std::string utc_now();
+// FNV-1a of this program's own bytes: results made by another binary are not up to date.
+std::string binary_hash();
 std::string command_line_of(int argc, char** argv);
 
 }  // namespace sph

@@ -35,14 +35,6 @@ constexpr long profile_steps = 20;
 constexpr double cuda_rate = 1e8;           // particle-steps per second, rough
 constexpr double host_rate_per_core = 1e6;  // particle-steps per second per core, rough
 
-std::string binary_hash() {
-    std::ifstream in("/proc/self/exe", std::ios::binary);
-    if (!in) return "unknown";
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    return fnv1a_hex(bytes.str());
-}
-
 // What the command line changed, in one line: part of what makes results up to date.
 std::string overrides_text(const RunArgs& a) {
     std::string s;
@@ -150,6 +142,9 @@ void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
 
 void run_spec(const RunArgs& a, CommandContext& ctx) {
     const ExperimentSpec spec = load_spec(a.spec);
+    if (spec.stability)
+        throw InputError("experiment spec '" + spec.path + "' is a stability study ([stability]); run it with `sphbench stability " +
+                         spec.path + "`");
     ExpandOptions ex;
     for (const auto& [k, v] : parse_settings(a.settings)) ex.overrides.emplace_back(k, v);
     ex.scale = a.scale;

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     sph::add_run_command(app, ctx);
     sph::add_list_command(app, ctx);
     sph::add_compare_command(app, ctx);
+    sph::add_stability_command(app, ctx);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,6 +1,7 @@
 #include "simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -43,7 +44,22 @@ ParticleArrays make_particle_arrays(const Scene& s, const Grid& g) {
 
 Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene_(scene), options_(options) {
     if (options_.cfl <= 0) options_.cfl = scene_.cfl;
-    grid_ = make_grid(scene_.lo.data(), scene_.hi.data(), scene_.params.support, options_.search.cells_per_support,
+    std::array<double, 3> lo = scene_.lo, hi = scene_.hi;
+    if (options_.grid_fits_particles && scene_.size() > 0) {
+        // Periodic axes keep the whole period: the wrap is defined on the scene's domain.
+        std::array<double, 3> plo = scene_.position.front(), phi = plo;
+        for (const auto& x : scene_.position)
+            for (int k = 0; k < 3; ++k) {
+                plo[k] = std::min(plo[k], x[k]);
+                phi[k] = std::max(phi[k], x[k]);
+            }
+        for (int k = 0; k < 3; ++k) {
+            if (scene_.periodic[k]) continue;
+            lo[k] = std::max(lo[k], plo[k] - double(scene_.params.support));
+            hi[k] = std::min(hi[k], phi[k] + double(scene_.params.support));
+        }
+    }
+    grid_ = make_grid(lo.data(), hi.data(), scene_.params.support, options_.search.cells_per_support,
                       scene_.periodic.data());
     check_periodic_options();
     if (double(grid_.view.nx) * grid_.view.ny * grid_.view.nz > 4.0e9)
@@ -217,13 +233,15 @@ const StepRecord& Simulation::step() {
     if (stats.bad_id != 0xffffffffu) {
         static const char* what[] = {"", "a non-finite acceleration or density rate", "a speed above the limit",
                                      "a density outside the limits"};
+        static const char* quantity[] = {"", "acceleration", "speed", "density"};
+        const std::uint32_t kind = std::min<std::uint32_t>(stats.bad_what, 3);
         std::ostringstream m;
         m << "the run blew up at step " << n << " (t = " << record_.time + dt << " s): particle " << stats.bad_id
-          << " has " << what[std::min<std::uint32_t>(stats.bad_what, 3)] << " (speed limit " << limits_.max_speed
+          << " has " << what[kind] << " (speed limit " << limits_.max_speed
           << " m/s, density limits " << limits_.min_density << " to " << limits_.max_density << " kg/m^3)";
         SnapshotData last = snapshot();
         last.step = n;
-        throw BlowUpError(m.str(), std::move(last));
+        throw BlowUpError(m.str(), std::move(last), n, stats.bad_id, quantity[kind]);
     }
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::integrate, n, d);

@@ -31,6 +31,10 @@ struct SolverOptions {
     bool diffusion = true;  // false compiles the delta-SPH term out
     double max_speed_factor = 1.0;  // a fluid speed above this times c0 is a blow-up
     bool timing = true;  // false: no CUDA events (profiling passes); NVTX ranges stay
+    // true: the grid covers the particles' initial bounding box grown by one support (within
+    // the scene's domain) instead of the whole domain: fewer cells to sort into and scan, for
+    // scenes whose walls enclose every particle; fluid leaving that box is dropped.
+    bool grid_fits_particles = false;
 };
 
 struct StepRecord {
@@ -54,10 +58,17 @@ struct StepRecord {
     }
 };
 
-// Thrown when the state blows up; last_good holds the state before the failing kick.
+// Thrown when the state blows up; last_good holds the state before the failing kick. The
+// fields repeat what the message says, for studies that tabulate failures (sphbench stability).
 struct BlowUpError : RunError {
-    BlowUpError(const std::string& what, SnapshotData state) : RunError(what), last_good(std::move(state)) {}
+    BlowUpError(const std::string& what, SnapshotData state, long failed_step, std::uint32_t particle_id,
+                std::string what_quantity)
+        : RunError(what), last_good(std::move(state)), step(failed_step), particle(particle_id),
+          quantity(std::move(what_quantity)) {}
     SnapshotData last_good;
+    long step = 0;                // the step that failed
+    std::uint32_t particle = 0;   // the particle's stable id
+    std::string quantity;         // "acceleration", "speed" or "density"
 };
 
 class Simulation {

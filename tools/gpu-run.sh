@@ -24,6 +24,7 @@ pack)
   rm -rf "$CARRY" && mkdir -p "$CARRY/bin" "$CARRY/lib" "$CARRY/meshes"
   cp build-gpu/harness/sphbench build-gpu/tests/sph_tests "$CARRY/bin/"
   [ -x build-gpu/bench/sph_bench ] && cp build-gpu/bench/sph_bench "$CARRY/bin/"
+  [ -x build-gpu/bench/sph_skip_bench ] && cp build-gpu/bench/sph_skip_bench "$CARRY/bin/"
   # Every shared library but the C runtime and the C++ runtime (the GPU machine's are newer).
   ldd "$CARRY"/bin/* | awk '$3 ~ /^\// {print $3}' | sort -u |
     grep -v -E '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux[^/]*|libstdc\+\+|libgcc_s)\.so' |

@@ -39,7 +39,7 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
                            ActiveRange range, std::uint32_t n, cudaStream_t s);
 void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
                 const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s);
-void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, ActiveRange range,
+void kick(real4* velrho, const real4* force, real half_dt, const SubdomainConfig& cfg, ActiveRange range,
           std::uint32_t n, cudaStream_t s);
 // Bytes of temporary storage reduce_stats needs for n particles.
 std::size_t reduce_stats_temp_bytes(std::uint32_t n);

@@ -77,18 +77,20 @@ __global__ void __launch_bounds__(block_size) forces_listed_kernel(ForceInputs i
     force[i] = particle_force_listed<Kernel, Diffusion>(i, in, list, p, kernel);
 }
 
+template <bool IntegrateBoundary>
 __global__ void kick_drift_kernel(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt,
                                   real dt, GridView g, PhysicsParams p, ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= *range.end) return;
-    particle_kick_drift(i, pos, velrho, cell, force, half_dt, dt, g, p);
+    particle_kick_drift<IntegrateBoundary>(i, pos, velrho, cell, force, half_dt, dt, g, p);
 }
 
+template <bool IntegrateBoundary>
 __global__ void kick_kernel(real4* velrho, const real4* force, real half_dt, PhysicsParams p,
                             ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= *range.end) return;
-    particle_kick(i, velrho, force, half_dt, p);
+    particle_kick<IntegrateBoundary>(i, velrho, force, half_dt, p);
 }
 
 template <class Search>
@@ -220,15 +222,22 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
 void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
                 const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    kick_drift_kernel<<<blocks_for(n), block_size, 0, s>>>(pos, velrho, cell, force, half_dt, dt, cfg.grid,
-                                                            cfg.params, range);
+    if (cfg.integrate_boundary)
+        kick_drift_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, cell, force, half_dt, dt, cfg.grid,
+                                                                      cfg.params, range);
+    else
+        kick_drift_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, cell, force, half_dt, dt, cfg.grid,
+                                                                       cfg.params, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void kick(real4* velrho, const real4* force, real half_dt, const PhysicsParams& p, ActiveRange range,
+void kick(real4* velrho, const real4* force, real half_dt, const SubdomainConfig& cfg, ActiveRange range,
           std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    kick_kernel<<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, p, range);
+    if (cfg.integrate_boundary)
+        kick_kernel<true><<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, cfg.params, range);
+    else
+        kick_kernel<false><<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, cfg.params, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 

@@ -260,7 +260,7 @@ public:
     }
     void kick(real half_dt) override {
         use_device();
-        gpu::kick(velrho_.data(), force_.data(), half_dt, cfg_.params, active_range(), n_, stream_);
+        gpu::kick(velrho_.data(), force_.data(), half_dt, cfg_, active_range(), n_, stream_);
     }
 
     StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {

@@ -162,18 +162,11 @@ public:
     }
 
     void kick_drift(real half_dt, real dt) override {
-        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
-#pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t i = lo; i < n; ++i)
-            particle_kick_drift(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.cell.data(), a_.force.data(),
-                                half_dt, dt, cfg_.grid, cfg_.params);
+        cfg_.integrate_boundary ? kick_drift_loop<true>(half_dt, dt) : kick_drift_loop<false>(half_dt, dt);
     }
 
     void kick(real half_dt) override {
-        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
-#pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t i = lo; i < n; ++i)
-            particle_kick(std::uint32_t(i), a_.velrho.data(), a_.force.data(), half_dt, cfg_.params);
+        cfg_.integrate_boundary ? kick_loop<true>(half_dt) : kick_loop<false>(half_dt);
     }
 
     StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
@@ -217,6 +210,21 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
+    template <bool IntegrateBoundary>
+    void kick_drift_loop(real half_dt, real dt) {
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = lo; i < n; ++i)
+            particle_kick_drift<IntegrateBoundary>(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.cell.data(),
+                                                   a_.force.data(), half_dt, dt, cfg_.grid, cfg_.params);
+    }
+    template <bool IntegrateBoundary>
+    void kick_loop(real half_dt) {
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t i = lo; i < n; ++i)
+            particle_kick<IntegrateBoundary>(std::uint32_t(i), a_.velrho.data(), a_.force.data(), half_dt, cfg_.params);
+    }
     // After keep_only_cells the owned particles, still in cell order, start at 0.
     void update_owned_range_after_keep(std::size_t kept) {
         owned_lo_ = 0;

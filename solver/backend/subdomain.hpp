@@ -42,6 +42,7 @@ struct SubdomainConfig {
     KernelType kernel = KernelType::wendland;
     bool diffusion = true;
     SearchOptions search;
+    bool integrate_boundary = false;  // true only to measure what skipping it saves (skip_bench)
 };
 
 struct WorkCounters {

@@ -67,6 +67,7 @@ Scene make_dsph_dambreak(SceneOptions& opt) {
 
 // A water column collapsing in a tank: column_width x width x column_height in the corner of
 // a length x width x height open tank (Martin and Moyce's geometry when height = 2 width).
+// initial_speed = U (m/s) launches the column at the far wall: a high-speed impact.
 Scene make_dambreak(SceneOptions& opt) {
     Scene s;
     s.name = "dambreak";
@@ -88,6 +89,12 @@ Scene make_dambreak(SceneOptions& opt) {
                      layers, true);
     s.n_boundary = s.size();
     add_fluid_box(s, origin, fluid_box(s.dp));
+    // A high-speed impact: the column starts moving towards the far wall. Read only when
+    // given, so that the default scene's resolved settings (and results) stay as they were.
+    if (opt.has("initial_speed")) {
+        const float u = float(opt.number("initial_speed", 0, 0, 1e3));
+        for (std::size_t i = s.n_boundary; i < s.size(); ++i) s.velocity[i] = {u, 0, 0};
+    }
     const double g = opt.number("gravity", g_default, 0, 1e3);
     set_common_physics(s, opt, opt.number("c0_factor", 20, 1, 1000) * std::sqrt(g * b), "wendland");
     const double m = (layers + 1) * s.dp;
