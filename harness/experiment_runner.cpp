@@ -87,6 +87,17 @@ std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs) {
     for (const char* k : {"mparticle_steps_per_s", "bytes_per_particle", "candidates_per_step", "neighbours_per_step",
                           "ranges_per_step", "sim_time", "wall_s", "steps_file"})
         c.emplace_back(k);
+    // Validation columns only where a run asks for validation: each metric's summary once.
+    std::set<std::string> metric_scenes;
+    for (const auto& r : runs)
+        if (r.validation.enabled()) metric_scenes.insert(r.scene);
+    if (!metric_scenes.empty()) {
+        for (const char* k : {"validation_every", "validation_end_time", "steps_run", "validation_s", "validation_file"})
+            c.emplace_back(k);
+        for (const auto& m : validation_metrics())
+            if (metric_scenes.count(m.scene))
+                for (const auto& k : m.summary_columns) c.push_back(k);
+    }
     return c;
 }
 
@@ -124,6 +135,16 @@ std::vector<std::string> runs_csv_row(const std::vector<std::string>& columns, c
     cell["sim_time"] = r.steps.empty() ? "0" : format_number(r.steps.back().time);
     cell["wall_s"] = format_number(r.wall_seconds);
     cell["steps_file"] = steps_file;
+    if (run.validation.enabled()) {
+        cell["validation_every"] = format_number(run.validation.every);
+        cell["validation_end_time"] = format_number(run.validation.end_time);
+        cell["steps_run"] = std::to_string(r.steps.size());
+        cell["validation_s"] = format_number(r.validation_seconds);
+        for (const auto& f : r.files)
+            if (f.size() >= 15 && f.compare(f.size() - 15, 15, "_validation.csv") == 0)
+                cell["validation_file"] = fs::path(f).filename().string();
+        for (const auto& [k, v] : r.validation_summary) cell[k] = format_number(v);
+    }
     std::vector<std::string> row;
     for (const auto& c : columns) row.push_back(cell.count(c) ? cell[c] : "");
     return row;
@@ -140,6 +161,7 @@ SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run)
     req.count_work_every = spec.records("counters-every-step") ? 1 : 0;
     req.write_step_csv = spec.records("steps");
     req.basename = run.run_id;
+    req.validation = run.validation;
     return req;
 }
 
@@ -153,8 +175,13 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
 
     const std::vector<std::string> columns = runs_csv_columns(runs);
     std::vector<std::vector<std::string>> rows;
+    const auto& handed_on = options.delegated.run_ids;
     for (std::size_t i = 0; i < runs.size(); ++i) {
         const PlannedRun& run = runs[i];
+        if (std::find(handed_on.begin(), handed_on.end(), run.run_id) != handed_on.end()) {
+            rows.emplace_back();  // filled in below, by the other build
+            continue;
+        }
         SceneRunRequest req = scene_request(spec, run);
         req.out_dir = dir;
         req.progress = !options.quiet;
@@ -183,6 +210,15 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
                         update.median, step.median, result.wall_seconds);
             std::fflush(stdout);
         }
+    }
+    if (!handed_on.empty()) {
+        if (!options.quiet)
+            std::printf("%zu run(s) in %s: handing them to %s\n", handed_on.size(),
+                        options.delegated.binary.find("f64") != std::string::npos ? "float64" : "the other precision",
+                        options.delegated.binary.c_str());
+        auto delegated = run_delegated(options.delegated, spec, dir, columns, options.quiet);
+        for (std::size_t i = 0; i < runs.size(); ++i)
+            if (rows[i].empty()) rows[i] = delegated.at(runs[i].run_id);
     }
     CsvWriter table(outcome.runs_csv, columns, options.metadata);
     for (const auto& row : rows) table.row(row);

@@ -31,6 +31,10 @@
 //     solver = { merge = true }        #   optional per-run overrides of [solver]
 //   [sweep]                            # optional cartesian product over every run: each key a
 //     cells_per_support = [1, 2]       #   solver key or "set.<scene option>", each an array
+//   [validation]                       # optional: the scene's metric (dambreak, tank) at output times
+//     every = 0.02                     #   simulated seconds between output times (> 0, required)
+//     end_time = 0.5                   #   optional: runs stop at this simulated time (steps: a cap)
+//   (a [[runs]] entry may carry its own: validation = { every = ..., end_time = ... })
 //   [host]                             # optional; when a run's backend resolves to the host:
 //     scale = 0.01                     #   particle counts times this (dp over its cube root)
 //     steps = 100                      #   replaces steps
@@ -44,6 +48,7 @@
 
 #include "simulation.hpp"
 #include "solver_settings.hpp"
+#include "validation_recorder.hpp"
 
 namespace sph {
 
@@ -51,6 +56,7 @@ struct RunSpec {
     std::string scene, label;
     SettingMap scene_options;  // set = { ... }
     SettingMap solver;         // per-run overrides
+    std::optional<ValidationRequest> validation;  // replaces the spec's [validation]
     long line = 0;             // where the [[runs]] entry starts, for messages
 };
 
@@ -74,6 +80,7 @@ struct ExperimentSpec {
     std::vector<RunSpec> runs;
     std::vector<SweepAxis> sweep;  // ordered by key
     std::optional<HostReduction> host;
+    std::optional<ValidationRequest> validation;
 
     bool records(const std::string& item) const;
 };
@@ -99,6 +106,7 @@ struct PlannedRun {
     long repetition = 1;  // 1-based
     double scale = 1.0;   // --scale times [host] scale where it applied
     bool reduced_scale = false;
+    ValidationRequest validation;  // off unless the spec asks
 };
 
 // The cartesian product of runs x sweep x repetitions with overrides and scaling applied.

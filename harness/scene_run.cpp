@@ -116,6 +116,12 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         snapshots->write(s);
     };
     write_snapshot(sim.snapshot());
+    std::unique_ptr<ValidationRecorder> validation;
+    if (req.validation.enabled()) {
+        validation = std::make_unique<ValidationRecorder>(scene, req.validation);
+        validation->sample(sim.snapshot());
+    }
+    const double end_time = req.validation.enabled() ? req.validation.end_time : 0.0;
 
     const long total = req.warmup + req.steps;
     Progress progress(req.scene, total, req.progress);
@@ -137,9 +143,16 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
                 }
             }
             if (snapshots && k % req.snapshot_every == 0) write_snapshot(sim.snapshot());
+            const bool ended = end_time > 0 && r.time >= end_time;
+            if (validation && (ended || k == total || validation->due(r.time))) {
+                const auto v0 = std::chrono::steady_clock::now();
+                validation->sample(sim.snapshot());
+                res.validation_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count();
+            }
             char detail[96];
             std::snprintf(detail, sizeof detail, "t = %.4f s, %.2f ms/step", r.time, update_time(r.phase_ms));
             progress.update(k, detail);
+            if (ended) break;
         }
     } catch (const BlowUpError& e) {
         progress.finish();
@@ -155,6 +168,16 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
     if (snapshots) {
         for (const auto& f : snapshots->files()) res.files.push_back(f);
         res.files.push_back(snapshots->xdmf_path());
+    }
+    if (validation) {
+        res.validation_summary = validation->summary();
+        if (writing) {
+            Metadata meta = req.metadata;
+            meta.emplace_back("scene", req.scene);
+            for (const auto& [k, v] : res.scene_settings) meta.emplace_back("scene." + k, v);
+            const std::string path = (fs::path(req.out_dir) / (req.basename + "_validation.csv")).string();
+            res.files.push_back(validation->write_csv(path, meta));
+        }
     }
     if (writing && req.write_step_csv) {
         Metadata meta = req.metadata;

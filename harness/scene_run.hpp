@@ -7,6 +7,7 @@
 
 #include "provenance.hpp"
 #include "simulation.hpp"
+#include "validation_recorder.hpp"
 
 namespace sph {
 
@@ -24,6 +25,7 @@ struct SceneRunRequest {
     bool progress = true;
     bool calibrate_search = false;  // time every search strategy first and run the fastest
     Metadata metadata;            // provenance lines for every file
+    ValidationRequest validation; // off unless asked for: the scene's metric at output times
 };
 
 struct WorkTotals {
@@ -42,6 +44,8 @@ struct SceneRunResult {
     std::vector<std::string> files;  // what was written
     std::map<std::string, std::string> scene_settings;
     std::string search_choice;  // what calibration picked, with every trial's time
+    std::vector<std::pair<std::string, double>> validation_summary;  // empty without validation
+    double validation_seconds = 0;  // wall time spent on validation samples (inside wall_seconds)
 };
 
 // Throws InputError for bad input and RunError (BlowUpError) when the run fails; on a
