@@ -167,10 +167,6 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
             return std::find(a.only.begin(), a.only.end(), r.run_id) == a.only.end();
         });
     }
-    DelegatedRuns delegated = plan_delegation(runs, a.float64_binary);
-    for (const auto& kv : a.settings) delegated.arguments.insert(delegated.arguments.end(), {"--set", kv});
-    if (a.scale != 1.0) delegated.arguments.insert(delegated.arguments.end(), {"--scale", format_number(a.scale)});
-    if (!a.backend.empty()) delegated.arguments.insert(delegated.arguments.end(), {"--backend", a.backend});
 
     const PlannedRun& first = runs.front();
     const bool reduced = std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.reduced_scale; });
@@ -183,6 +179,11 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
         ctx.exit_code = exit_ok;
         return;
     }
+    // After --dry-run, which shows every run whichever build it needs.
+    DelegatedRuns delegated = plan_delegation(runs, a.float64_binary);
+    for (const auto& kv : a.settings) delegated.arguments.insert(delegated.arguments.end(), {"--set", kv});
+    if (a.scale != 1.0) delegated.arguments.insert(delegated.arguments.end(), {"--scale", format_number(a.scale)});
+    if (!a.backend.empty()) delegated.arguments.insert(delegated.arguments.end(), {"--backend", a.backend});
     if (a.profile) {
         profile_pass(spec, runs, a, ctx);
         ctx.exit_code = exit_ok;
