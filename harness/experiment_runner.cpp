@@ -205,9 +205,10 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
         if (!options.quiet) {
             const Summary update = summarize(metric_series(result, "update_ms"));
             const Summary step = summarize(metric_series(result, "step_ms"));
-            std::printf("[%zu/%zu] %s: %zu particles on %s, %ld steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
-                        i + 1, runs.size(), run.run_id.c_str(), result.particles, result.device.c_str(), run.steps,
-                        update.median, step.median, result.wall_seconds);
+            std::printf("[%zu/%zu] %s: %zu particles on %s, %zu steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
+                        i + 1, runs.size(), run.run_id.c_str(), result.particles, result.device.c_str(),
+                        result.steps.size(), update.median, step.median, result.wall_seconds);
+            for (const auto& [k, v] : result.validation_summary) std::printf("    %s = %.4g\n", k.c_str(), v);
             std::fflush(stdout);
         }
     }

@@ -171,7 +171,9 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
     const PlannedRun& first = runs.front();
     const bool reduced = std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.reduced_scale; });
     const bool host_reduced = reduced && first.solver.backend == BackendKind::host && spec.host;
-    if (host_reduced)
+    if (host_reduced && first.steps == spec.steps)
+        std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g)\n", spec.name.c_str(), first.scale);
+    else if (host_reduced)
         std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g, %ld steps instead of %ld)\n",
                     spec.name.c_str(), first.scale, first.steps, spec.steps);
     if (a.dry_run) {
