@@ -91,6 +91,8 @@ std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs) {
     std::set<std::string> metric_scenes;
     for (const auto& r : runs)
         if (r.validation.enabled()) metric_scenes.insert(r.scene);
+    if (std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.record_blow_up; }))
+        c.emplace_back("blow_up");
     if (!metric_scenes.empty()) {
         for (const char* k : {"validation_every", "validation_end_time", "steps_run", "validation_s", "validation_file"})
             c.emplace_back(k);
@@ -135,6 +137,7 @@ std::vector<std::string> runs_csv_row(const std::vector<std::string>& columns, c
     cell["sim_time"] = r.steps.empty() ? "0" : format_number(r.steps.back().time);
     cell["wall_s"] = format_number(r.wall_seconds);
     cell["steps_file"] = steps_file;
+    cell["blow_up"] = r.blow_up;
     if (run.validation.enabled()) {
         cell["validation_every"] = format_number(run.validation.every);
         cell["validation_end_time"] = format_number(run.validation.end_time);
@@ -162,6 +165,7 @@ SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run)
     req.write_step_csv = spec.records("steps");
     req.basename = run.run_id;
     req.validation = run.validation;
+    req.record_blow_up = run.record_blow_up;
     return req;
 }
 
@@ -208,6 +212,7 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
             std::printf("[%zu/%zu] %s: %zu particles on %s, %zu steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
                         i + 1, runs.size(), run.run_id.c_str(), result.particles, result.device.c_str(),
                         result.steps.size(), update.median, step.median, result.wall_seconds);
+            if (!result.blow_up.empty()) std::printf("    recorded, not fatal: %s\n", result.blow_up.c_str());
             for (const auto& [k, v] : result.validation_summary) std::printf("    %s = %.4g\n", k.c_str(), v);
             std::fflush(stdout);
         }

@@ -206,7 +206,7 @@ ExperimentSpec load_spec(const std::string& path) {
     }
     r.check_keys(doc,
                  {"name", "reproduces", "description", "steps", "warmup", "repetitions", "seed", "record",
-                  "snapshot_every", "solver", "runs", "sweep", "host", "validation"},
+                  "snapshot_every", "solver", "runs", "sweep", "host", "validation", "blow_up"},
                  "the top level");
     ExperimentSpec spec;
     spec.path = path;
@@ -240,6 +240,10 @@ ExperimentSpec load_spec(const std::string& path) {
 
     if (const toml::node* solver = doc.get("solver")) spec.solver = r.solver_table(*solver, "[solver]");
 
+    const std::string blow_up = r.text(doc, "blow_up", false, "fail", top);
+    if (blow_up != "fail" && blow_up != "record")
+        r.fail(doc.get("blow_up")->source(), "'blow_up' must be \"fail\" or \"record\", got '" + blow_up + "'");
+    spec.record_blow_ups = blow_up == "record";
     if (const toml::node* v = doc.get("validation")) spec.validation = read_validation(r, *v, "[validation]");
 
     const toml::node* runs = doc.get("runs");

@@ -31,6 +31,8 @@
 //     solver = { merge = true }        #   optional per-run overrides of [solver]
 //   [sweep]                            # optional cartesian product over every run: each key a
 //     cells_per_support = [1, 2]       #   solver key or "set.<scene option>", each an array
+//   blow_up = "fail"                   # optional: "fail" (the experiment stops) or "record" (the
+//                                      #   run's row says where it blew up; the others go on)
 //   [validation]                       # optional: the scene's metric (dambreak, tank) at output times
 //     every = 0.02                     #   simulated seconds between output times (> 0, required)
 //     end_time = 0.5                   #   optional: runs stop at this simulated time (steps: a cap)
@@ -81,6 +83,7 @@ struct ExperimentSpec {
     std::vector<SweepAxis> sweep;  // ordered by key
     std::optional<HostReduction> host;
     std::optional<ValidationRequest> validation;
+    bool record_blow_ups = false;  // blow_up = "record"
 
     bool records(const std::string& item) const;
 };
@@ -107,6 +110,7 @@ struct PlannedRun {
     double scale = 1.0;   // --scale times [host] scale where it applied
     bool reduced_scale = false;
     ValidationRequest validation;  // off unless the spec asks
+    bool record_blow_up = false;   // the spec's blow_up = "record"
 };
 
 // The cartesian product of runs x sweep x repetitions with overrides and scaling applied.

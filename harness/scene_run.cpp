@@ -156,12 +156,17 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         }
     } catch (const BlowUpError& e) {
         progress.finish();
+        std::string where;
         if (writing) {
             SnapshotSeries last((fs::path(req.out_dir)).string(), req.basename + "_last_good");
             last.write(e.last_good);
-            throw RunError(std::string(e.what()) + "; the last good state is in " + last.xdmf_path());
+            where = "; the last good state is in " + last.xdmf_path();
         }
-        throw;
+        if (!req.record_blow_up) {
+            if (writing) throw RunError(std::string(e.what()) + where);
+            throw;
+        }
+        res.blow_up = std::string(e.what()) + where;  // a result of the study, not a failure of the run
     }
     progress.finish();
     res.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

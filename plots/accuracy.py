@@ -8,6 +8,8 @@ marks the Pareto front: the runs that no other run beats on both time and error.
   tank:      relative RMS of the pressure against rho0 g (H - z) at the end of the run
 
 Run time is the run's wall time less the time spent evaluating the metric (wall_s - validation_s).
+A run that blew up (its `blow_up` cell says where) has no error: it is drawn as a cross on the
+top edge at the time it ran, and is never on the front.
 Also writes NAME.csv beside the figure: one row per run with its time, error and front membership.
 
 Usage: python3 plots/accuracy.py [--results results/accuracy] [--out plots/out]
@@ -52,12 +54,14 @@ def table(runs):
             continue
         sphplot.require_columns(sub, ["wall_s", err_col])
         time = sub["wall_s"].astype(float) - sphplot.column(sub, "validation_s", 0.0).astype(float)
-        err = sub[err_col].astype(float)
+        blew = sphplot.column(sub, "blow_up", "").fillna("").astype(str).str.strip() != ""
+        err = sub[err_col].astype(float).where(~blew)  # what it measured before blowing up is no result
         front = pareto_mask(time, err)
         sec = sub[sec_col].astype(float) if sec_col and sec_col in sub.columns else [np.nan] * len(sub)
-        for run_id, t, e, s, p in zip(sub["run_id"], time, err, sec, front):
+        for run_id, t, e, s, p, b in zip(sub["run_id"], time, err, sec, front, blew):
             rows.append({"scene": scene, "run_id": run_id, "variant": variant_of(run_id, scene), "run_time_s": t,
-                         "error_name": err_col, "error": e, "secondary": s, "pareto": bool(p)})
+                         "error_name": err_col, "error": e, "secondary": np.nan if b else s, "pareto": bool(p),
+                         "blew_up": bool(b)})
     if not rows:
         raise sphplot.ResultsError(f"{runs.attrs.get('path', 'runs.csv')} has no dambreak or tank run with "
                                    "validation columns; run experiments/accuracy.toml.")
@@ -83,6 +87,14 @@ def draw(data, label, reduced):
         for _, r in d[ok].iterrows():
             ax.annotate(r["variant"], (r["run_time_s"], r["error"]), textcoords="offset points", xytext=(4, 3),
                         fontsize=7)
+        failed = d[d["blew_up"]]
+        if not failed.empty:
+            top = 1.1 * d["error"].max() if ok.any() else 1.0
+            ax.scatter(failed["run_time_s"], [top] * len(failed), marker="x", s=40, color="#d62728", zorder=5,
+                       label="blew up (no error)", clip_on=False)
+            for _, r in failed.iterrows():
+                ax.annotate(r["variant"], (r["run_time_s"], top), textcoords="offset points", xytext=(4, -9),
+                            fontsize=7, color="#d62728")
         ax.set_xscale("log")
         ax.set_xlabel("run time (s): wall time less metric evaluation")
         ax.set_ylabel(ylabel)
@@ -106,7 +118,7 @@ def main(argv=None):
     for scene, d in data.groupby("scene", sort=False):
         print(f"  {scene} ({d['error_name'].iloc[0]}):")
         for _, r in d.sort_values("run_time_s").iterrows():
-            mark = "  Pareto" if r["pareto"] else ""
+            mark = "  Pareto" if r["pareto"] else "  BLEW UP" if r["blew_up"] else ""
             sec = f" (secondary {r['secondary']:.4g})" if np.isfinite(r["secondary"]) else ""
             print(f"    {r['variant']:<16} {r['run_time_s']:9.2f} s  error {r['error']:.4g}{sec}{mark}")
     args.out.mkdir(parents=True, exist_ok=True)

@@ -180,6 +180,7 @@ TEST_F(SpecTest, BadInputIsRefusedWithFileLineAndKey) {
          "end_time"},
         {"validation of a scene without a metric", "[validation]\nevery = 0.1\n[[runs]]\nscene = \"dsph-dambreak\"\n",
          6, "dsph-dambreak"},
+        {"unknown blow_up policy", "blow_up = \"ignore\"\n[[runs]]\nscene = \"tank\"\n", 4, "blow_up"},
         {"unknown precision", "[[runs]]\nscene = \"tank\"\nsolver = { precision = \"float16\" }\n", 6, "precision"},
     };
     for (const auto& c : cases) {

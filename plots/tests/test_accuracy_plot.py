@@ -25,6 +25,7 @@ RUNS = [
     ("dambreak-coarse", "dambreak", 4.5, 0.5, 0.30, 0.25),
     ("dambreak-cubic", "dambreak", 13.0, 1.0, 0.12, 0.11),
     ("dambreak-cfl-0.1", "dambreak", 21.0, 1.0, 0.10, 0.09),
+    ("dambreak-no-diffusion", "dambreak", 2.0, 0.5, 0.01, 0.01),  # blew up: fast, 'accurate', no result
     ("tank-base", "tank", 5.0, 0.2, 0.02, None),
     ("tank-float64", "tank", 9.0, 0.2, 0.02, None),
 ]
@@ -34,13 +35,14 @@ FRONT = {"dambreak-base", "dambreak-fine", "dambreak-coarse", "tank-base"}
 def make_results(folder):
     folder.mkdir(parents=True)
     cols = ["run_id", "config", "scene", "backend", "device", "wall_s", "validation_s", "front_rms_martin_moyce",
-            "front_rms_koshizuka_oka", "hydro_rel_rms_final"]
+            "front_rms_koshizuka_oka", "hydro_rel_rms_final", "blow_up"]
     with open(folder / "runs.csv", "w") as f:
         f.writelines(f"# {k}: {v}\n" for k, v in META.items())
         f.write(",".join(cols) + "\n")
         for run_id, scene, wall, val, err, sec in RUNS:
             front = (err, "" if sec is None else sec, "") if scene == "dambreak" else ("", "", err)
-            f.write(",".join(map(str, [run_id, run_id, scene, "host", "host", wall, val, *front])) + "\n")
+            blew = "blew up at step 9" if run_id.endswith("no-diffusion") else ""
+            f.write(",".join(map(str, [run_id, run_id, scene, "host", "host", wall, val, *front, blew])) + "\n")
 
 
 def run(*args):
@@ -68,6 +70,8 @@ def test_figure_table_and_summary(tmp):
     assert got == FRONT, f"Pareto front {got}, expected {FRONT}"
     base = table[table["run_id"] == "dambreak-base"].iloc[0]
     assert abs(base["run_time_s"] - 10.0) < 1e-9, "run time must exclude the metric's evaluation"
+    nodiff = table[table["run_id"] == "dambreak-no-diffusion"].iloc[0]
+    assert str(nodiff["blew_up"]) == "True" and "BLEW UP" in p.stdout, "a blown-up run must say so"
     assert "REDUCED SCALE" in p.stdout and "commit 0123456" in p.stdout, p.stdout
     line = next((l for l in p.stdout.splitlines() if "base" in l and "10.00 s" in l), None)
     assert line and "Pareto" in line, f"no summary line for dambreak-base in:\n{p.stdout}"
