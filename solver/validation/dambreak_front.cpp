@@ -43,7 +43,7 @@ public:
             throw InputError("the dam-break front metric needs column_height = 2 x column_width (Martin and Moyce's "
                              "n^2 = 2); this scene has " + scene.settings.at("column_height") + " and " +
                              scene.settings.at("column_width"));
-        dp_ = scene.dp;
+        support_ = scene.params.support;
         g_ = -double(scene.params.gravity.z);
         if (!(g_ > 0)) throw InputError("the dam-break front metric needs gravity > 0");
     }
@@ -51,8 +51,9 @@ public:
     std::vector<double> sample(const SnapshotData& state) override {
         // The wall's surface layer sits at z = 0 and x = 0 and the fluid starts one spacing
         // in, so the water's volume reaches half a spacing beyond the front particle and
-        // starts half a spacing off the wall: the front's distance is the particle's x.
-        const double x = surge_front_x(state, dp_, 0.0, 3 * dp_);
+        // starts half a spacing off the wall: the front's distance is the particle's x. The
+        // band, z < a, is the lower half of the column (see surge_front_x).
+        const double x = surge_front_x(state, support_, 0.0, a_);
         const double T = state.time * std::sqrt(2 * g_ / a_), Z = x / a_;
         const double zm = martin_moyce_.at(T), zk = koshizuka_oka_.at(T);
         mm_.add(Z - zm);
@@ -67,20 +68,20 @@ public:
 
 private:
     ReferenceSeries martin_moyce_, koshizuka_oka_;
-    double a_ = 0, dp_ = 0, g_ = 0, last_T_ = nan;
+    double a_ = 0, support_ = 0, g_ = 0, last_T_ = nan;
     Deviation mm_, ko_;
 };
 
 }  // namespace
 
-double surge_front_x(const SnapshotData& s, double dp, double floor_z, double band) {
+double surge_front_x(const SnapshotData& s, double radius, double floor_z, double band) {
     const std::size_t n = s.type.size();
     std::vector<std::size_t> floor;
     for (std::size_t i = 0; i < n; ++i)
         if (s.type[i] == 0 && std::isfinite(s.position[3 * i]) && s.position[3 * i + 2] - floor_z < band)
             floor.push_back(i);
     std::sort(floor.begin(), floor.end(), [&](std::size_t a, std::size_t b) { return s.position[3 * a] > s.position[3 * b]; });
-    const double r2 = 4 * dp * dp;
+    const double r2 = radius * radius;
     for (std::size_t i : floor) {  // usually the first or second candidate passes
         for (std::size_t j = 0; j < n; ++j) {
             if (j == i || s.type[j] != 0) continue;
