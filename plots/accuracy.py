@@ -96,6 +96,9 @@ def draw(data, label, reduced):
                 ax.annotate(r["variant"], (r["run_time_s"], top), textcoords="offset points", xytext=(4, -9),
                             fontsize=7, color="#d62728")
         ax.set_xscale("log")
+        finite = d["error"][ok & (d["error"] > 0)]
+        if len(finite) and finite.max() > 30 * finite.min():  # a diverged run beside 2% errors
+            ax.set_yscale("log")
         ax.set_xlabel("run time (s): wall time less metric evaluation")
         ax.set_ylabel(ylabel)
         ax.set_title(TITLES[scene], loc="left")
