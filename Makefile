@@ -5,9 +5,12 @@ BUILD ?= build
 JOBS ?= 2
 CMAKE_ARGS ?=
 SPHBENCH := $(BUILD)/harness/sphbench
+# The float64 build (-DSPH_DOUBLE=ON) that runs the runs asking for precision = "float64".
+BUILD_F64 ?= build-f64
 PYTHON ?= python3
 
-.PHONY: all deps configure build test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl table-vl perf-check stability skip-bench clean
+.PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl \
+        table-vl perf-check stability skip-bench accuracy clean
 
 all: build
 
@@ -45,6 +48,16 @@ table-vl: cll-vs-vl
 
 figures: fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 table-vl
 
+# Precision is fixed at compile time: a second build, sphbench only, for the float64 runs.
+build-float64: deps
+	@cmake -S . -B $(BUILD_F64) -DCMAKE_BUILD_TYPE=Release -DSPH_DOUBLE=ON -DSPH_BUILD_TESTS=OFF $(CMAKE_ARGS) >/dev/null
+	@cmake --build $(BUILD_F64) -j$(JOBS) --target sphbench
+
+# Issue 6: validation error against run time; float64 runs are handed to the float64 build.
+accuracy: build build-float64
+	$(SPHBENCH) run experiments/accuracy.toml --float64-binary $(BUILD_F64)/harness/sphbench
+	$(PYTHON) plots/accuracy.py
+
 perf-check: build
 	$(SPHBENCH) run experiments/perf-smoke.toml --backend host --out results/perf-check --force
 	$(SPHBENCH) compare results/reference/host/perf-smoke results/perf-check/perf-smoke --metrics counters
@@ -65,4 +78,4 @@ skip-bench: build
 	$(BUILD)/bench/sph_skip_bench --benchmark_out=results/skip_bench.json --benchmark_out_format=json
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(BUILD_F64)

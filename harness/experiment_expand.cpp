@@ -114,6 +114,9 @@ std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& 
             base.steps = steps;
             base.warmup = warmup;
             base.snapshot_every = spec.snapshot_every;
+            base.record_blow_up = spec.record_blow_ups;
+            if (run.validation) base.validation = *run.validation;
+            else if (spec.validation) base.validation = *spec.validation;
             base.scale = options.scale;
             const bool on_host = base.solver.backend == BackendKind::host;
             if (on_host && spec.host) {

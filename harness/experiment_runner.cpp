@@ -87,6 +87,19 @@ std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs) {
     for (const char* k : {"mparticle_steps_per_s", "bytes_per_particle", "candidates_per_step", "neighbours_per_step",
                           "ranges_per_step", "sim_time", "wall_s", "steps_file"})
         c.emplace_back(k);
+    // Validation columns only where a run asks for validation: each metric's summary once.
+    std::set<std::string> metric_scenes;
+    for (const auto& r : runs)
+        if (r.validation.enabled()) metric_scenes.insert(r.scene);
+    if (std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.record_blow_up; }))
+        c.emplace_back("blow_up");
+    if (!metric_scenes.empty()) {
+        for (const char* k : {"validation_every", "validation_end_time", "steps_run", "validation_s", "validation_file"})
+            c.emplace_back(k);
+        for (const auto& m : validation_metrics())
+            if (metric_scenes.count(m.scene))
+                for (const auto& k : m.summary_columns) c.push_back(k);
+    }
     return c;
 }
 
@@ -124,6 +137,17 @@ std::vector<std::string> runs_csv_row(const std::vector<std::string>& columns, c
     cell["sim_time"] = r.steps.empty() ? "0" : format_number(r.steps.back().time);
     cell["wall_s"] = format_number(r.wall_seconds);
     cell["steps_file"] = steps_file;
+    cell["blow_up"] = r.blow_up;
+    if (run.validation.enabled()) {
+        cell["validation_every"] = format_number(run.validation.every);
+        cell["validation_end_time"] = format_number(run.validation.end_time);
+        cell["steps_run"] = std::to_string(r.steps.size());
+        cell["validation_s"] = format_number(r.validation_seconds);
+        for (const auto& f : r.files)
+            if (f.size() >= 15 && f.compare(f.size() - 15, 15, "_validation.csv") == 0)
+                cell["validation_file"] = fs::path(f).filename().string();
+        for (const auto& [k, v] : r.validation_summary) cell[k] = format_number(v);
+    }
     std::vector<std::string> row;
     for (const auto& c : columns) row.push_back(cell.count(c) ? cell[c] : "");
     return row;
@@ -140,6 +164,8 @@ SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run)
     req.count_work_every = spec.records("counters-every-step") ? 1 : 0;
     req.write_step_csv = spec.records("steps");
     req.basename = run.run_id;
+    req.validation = run.validation;
+    req.record_blow_up = run.record_blow_up;
     return req;
 }
 
@@ -153,8 +179,13 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
 
     const std::vector<std::string> columns = runs_csv_columns(runs);
     std::vector<std::vector<std::string>> rows;
+    const auto& handed_on = options.delegated.run_ids;
     for (std::size_t i = 0; i < runs.size(); ++i) {
         const PlannedRun& run = runs[i];
+        if (std::find(handed_on.begin(), handed_on.end(), run.run_id) != handed_on.end()) {
+            rows.emplace_back();  // filled in below, by the other build
+            continue;
+        }
         SceneRunRequest req = scene_request(spec, run);
         req.out_dir = dir;
         req.progress = !options.quiet;
@@ -178,11 +209,22 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
         if (!options.quiet) {
             const Summary update = summarize(metric_series(result, "update_ms"));
             const Summary step = summarize(metric_series(result, "step_ms"));
-            std::printf("[%zu/%zu] %s: %zu particles on %s, %ld steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
-                        i + 1, runs.size(), run.run_id.c_str(), result.particles, result.device.c_str(), run.steps,
-                        update.median, step.median, result.wall_seconds);
+            std::printf("[%zu/%zu] %s: %zu particles on %s, %zu steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
+                        i + 1, runs.size(), run.run_id.c_str(), result.particles, result.device.c_str(),
+                        result.steps.size(), update.median, step.median, result.wall_seconds);
+            if (!result.blow_up.empty()) std::printf("    recorded, not fatal: %s\n", result.blow_up.c_str());
+            for (const auto& [k, v] : result.validation_summary) std::printf("    %s = %.4g\n", k.c_str(), v);
             std::fflush(stdout);
         }
+    }
+    if (!handed_on.empty()) {
+        if (!options.quiet)
+            std::printf("%zu run(s) in %s: handing them to %s\n", handed_on.size(),
+                        options.delegated.binary.find("f64") != std::string::npos ? "float64" : "the other precision",
+                        options.delegated.binary.c_str());
+        auto delegated = run_delegated(options.delegated, spec, dir, columns, options.quiet);
+        for (std::size_t i = 0; i < runs.size(); ++i)
+            if (rows[i].empty()) rows[i] = delegated.at(runs[i].run_id);
     }
     CsvWriter table(outcome.runs_csv, columns, options.metadata);
     for (const auto& row : rows) table.row(row);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "experiment_spec.hpp"
+#include "precision_delegate.hpp"
 #include "provenance.hpp"
 #include "scene_run.hpp"
 
@@ -15,6 +16,7 @@ struct ExperimentRunOptions {
     std::string out_dir = "results";
     bool quiet = false;
     Metadata metadata;  // provenance and spec lines for every file written
+    DelegatedRuns delegated;  // runs of the other precision, run by its build
 };
 
 struct ExperimentOutcome {

@@ -137,10 +137,22 @@ private:
     std::string path_;
 };
 
+// [validation] or a run's validation = { ... }: the scene must have a metric.
+ValidationRequest read_validation(const SpecReader& r, const toml::node& node, const std::string& where) {
+    const toml::table* t = node.as_table();
+    if (!t) r.fail(node.source(), "'" + where + "' must be a table, not " + SpecReader::type_name(node));
+    r.check_keys(*t, {"every", "end_time"}, where);
+    if (!t->get("every")) r.fail(t->source(), "missing required key 'every' in " + where);
+    ValidationRequest v;
+    v.every = r.number(*t, "every", 0.0, 0.0);
+    v.end_time = r.number(*t, "end_time", 0.0, 0.0);
+    return v;
+}
+
 RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index) {
     const toml::table* t = node.as_table();
     if (!t) r.fail(node.source(), "each [[runs]] entry must be a table");
-    r.check_keys(*t, {"scene", "label", "set", "solver"}, "[[runs]]");
+    r.check_keys(*t, {"scene", "label", "set", "solver", "validation"}, "[[runs]]");
     RunSpec run;
     run.line = long(t->source().begin.line);
     run.scene = r.text(*t, "scene", true, "", "[[runs]]");
@@ -157,6 +169,7 @@ RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index)
         for (const auto& [key, value] : *st) run.scene_options[std::string(key.str())] = r.scene_value(std::string(key.str()), value);
     }
     if (const toml::node* solver = t->get("solver")) run.solver = r.solver_table(*solver, "solver of [[runs]]");
+    if (const toml::node* v = t->get("validation")) run.validation = read_validation(r, *v, "validation of [[runs]]");
     return run;
 }
 
@@ -193,7 +206,7 @@ ExperimentSpec load_spec(const std::string& path) {
     }
     r.check_keys(doc,
                  {"name", "reproduces", "description", "steps", "warmup", "repetitions", "seed", "record",
-                  "snapshot_every", "solver", "runs", "sweep", "host", "stability"},
+                  "snapshot_every", "solver", "runs", "sweep", "host", "stability", "validation", "blow_up"},
                  "the top level");
     ExperimentSpec spec;
     spec.path = path;
@@ -227,6 +240,12 @@ ExperimentSpec load_spec(const std::string& path) {
 
     if (const toml::node* solver = doc.get("solver")) spec.solver = r.solver_table(*solver, "[solver]");
 
+    const std::string blow_up = r.text(doc, "blow_up", false, "fail", top);
+    if (blow_up != "fail" && blow_up != "record")
+        r.fail(doc.get("blow_up")->source(), "'blow_up' must be \"fail\" or \"record\", got '" + blow_up + "'");
+    spec.record_blow_ups = blow_up == "record";
+    if (const toml::node* v = doc.get("validation")) spec.validation = read_validation(r, *v, "[validation]");
+
     const toml::node* runs = doc.get("runs");
     if (!runs) r.fail_at(0, "missing required key 'runs' (one or more [[runs]] tables)");
     const toml::array* run_list = runs->as_array();
@@ -237,6 +256,9 @@ ExperimentSpec load_spec(const std::string& path) {
             if (other.label == run.label)
                 r.fail_at(run.line, "label '" + run.label + "' is used twice (also at line " +
                                         std::to_string(other.line) + ")");
+        if ((run.validation || spec.validation) && !find_validation_metric(run.scene))
+            r.fail_at(run.line, "validation asked for, but scene '" + run.scene + "' has no validation metric (scenes with one: " +
+                                    scenes_with_validation() + ")");
         spec.runs.push_back(std::move(run));
     }
 

@@ -32,6 +32,12 @@
 //     solver = { merge = true }        #   optional per-run overrides of [solver]
 //   [sweep]                            # optional cartesian product over every run: each key a
 //     cells_per_support = [1, 2]       #   solver key or "set.<scene option>", each an array
+//   blow_up = "fail"                   # optional: "fail" (the experiment stops) or "record" (the
+//                                      #   run's row says where it blew up; the others go on)
+//   [validation]                       # optional: the scene's metric (dambreak, tank) at output times
+//     every = 0.02                     #   simulated seconds between output times (> 0, required)
+//     end_time = 0.5                   #   optional: runs stop at this simulated time (steps: a cap)
+//   (a [[runs]] entry may carry its own: validation = { every = ..., end_time = ... })
 //   [host]                             # optional; when a run's backend resolves to the host:
 //     scale = 0.01                     #   particle counts times this (dp over its cube root)
 //     steps = 100                      #   replaces steps
@@ -53,6 +59,7 @@
 
 #include "simulation.hpp"
 #include "solver_settings.hpp"
+#include "validation_recorder.hpp"
 
 namespace sph {
 
@@ -60,6 +67,7 @@ struct RunSpec {
     std::string scene, label;
     SettingMap scene_options;  // set = { ... }
     SettingMap solver;         // per-run overrides
+    std::optional<ValidationRequest> validation;  // replaces the spec's [validation]
     long line = 0;             // where the [[runs]] entry starts, for messages
 };
 
@@ -92,6 +100,8 @@ struct ExperimentSpec {
     std::vector<SweepAxis> sweep;  // ordered by key
     std::optional<HostReduction> host;
     std::optional<StabilityStudy> stability;  // only `sphbench stability` runs these
+    std::optional<ValidationRequest> validation;
+    bool record_blow_ups = false;  // blow_up = "record"
 
     bool records(const std::string& item) const;
 };
@@ -117,6 +127,8 @@ struct PlannedRun {
     long repetition = 1;  // 1-based
     double scale = 1.0;   // --scale times [host] scale where it applied
     bool reduced_scale = false;
+    ValidationRequest validation;  // off unless the spec asks
+    bool record_blow_up = false;   // the spec's blow_up = "record"
 };
 
 // The cartesian product of runs x sweep x repetitions with overrides and scaling applied.

@@ -28,6 +28,8 @@ struct RunArgs {
     double scale = 1.0;
     std::string backend;
     std::string out = "results";
+    std::vector<std::string> only;  // run ids to run (a float32 build hands float64 runs on this way)
+    std::string float64_binary;
     bool dry_run = false, profile = false, force = false, quiet = false;
 };
 
@@ -35,12 +37,21 @@ constexpr long profile_steps = 20;
 constexpr double cuda_rate = 1e8;           // particle-steps per second, rough
 constexpr double host_rate_per_core = 1e6;  // particle-steps per second per core, rough
 
+std::string binary_hash(const std::string& path = "/proc/self/exe") {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return "unknown";
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return fnv1a_hex(bytes.str());
+}
+
 // What the command line changed, in one line: part of what makes results up to date.
 std::string overrides_text(const RunArgs& a) {
     std::string s;
     for (const auto& kv : a.settings) s += (s.empty() ? "" : " ") + ("--set " + kv);
     if (a.scale != 1.0) s += (s.empty() ? "" : " ") + ("--scale " + format_number(a.scale));
     if (!a.backend.empty()) s += (s.empty() ? "" : " ") + ("--backend " + a.backend);
+    for (const auto& id : a.only) s += (s.empty() ? "" : " ") + ("--only " + id);
     return s.empty() ? "none" : s;
 }
 
@@ -63,7 +74,7 @@ bool up_to_date(const std::string& runs_csv, const Metadata& now) {
             if (k == key) return v;
         return std::string("\x01missing");
     };
-    for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend"})
+    for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend", "float64_binary_hash"})
         if (value(old, key) != value(now, key)) return false;
     return true;
 }
@@ -150,12 +161,22 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
     ex.scale = a.scale;
     ex.backend = a.backend;
     ex.gpu_available = cuda_backend_available();
-    const std::vector<PlannedRun> runs = expand(spec, ex);
+    std::vector<PlannedRun> runs = expand(spec, ex);
+    if (!a.only.empty()) {
+        for (const auto& id : a.only)
+            if (std::none_of(runs.begin(), runs.end(), [&](const PlannedRun& r) { return r.run_id == id; }))
+                throw InputError("--only names run '" + id + "', which " + spec.path + " does not have");
+        std::erase_if(runs, [&](const PlannedRun& r) {
+            return std::find(a.only.begin(), a.only.end(), r.run_id) == a.only.end();
+        });
+    }
 
     const PlannedRun& first = runs.front();
     const bool reduced = std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.reduced_scale; });
     const bool host_reduced = reduced && first.solver.backend == BackendKind::host && spec.host;
-    if (host_reduced)
+    if (host_reduced && first.steps == spec.steps)
+        std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g)\n", spec.name.c_str(), first.scale);
+    else if (host_reduced)
         std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g, %ld steps instead of %ld)\n",
                     spec.name.c_str(), first.scale, first.steps, spec.steps);
     if (a.dry_run) {
@@ -163,6 +184,11 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
         ctx.exit_code = exit_ok;
         return;
     }
+    // After --dry-run, which shows every run whichever build it needs.
+    DelegatedRuns delegated = plan_delegation(runs, a.float64_binary);
+    for (const auto& kv : a.settings) delegated.arguments.insert(delegated.arguments.end(), {"--set", kv});
+    if (a.scale != 1.0) delegated.arguments.insert(delegated.arguments.end(), {"--scale", format_number(a.scale)});
+    if (!a.backend.empty()) delegated.arguments.insert(delegated.arguments.end(), {"--backend", a.backend});
     if (a.profile) {
         profile_pass(spec, runs, a, ctx);
         ctx.exit_code = exit_ok;
@@ -184,6 +210,11 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
     opt.metadata.emplace_back("seed", std::to_string(spec.seed));
     opt.metadata.emplace_back("scale", format_number(first.scale));
     opt.metadata.emplace_back("reduced_scale", reduced ? "yes" : "no");
+    if (!delegated.run_ids.empty()) {
+        opt.metadata.emplace_back("float64_binary", delegated.binary);
+        opt.metadata.emplace_back("float64_binary_hash", binary_hash(delegated.binary));
+    }
+    opt.delegated = delegated;
 
     const std::string runs_csv = (fs::path(experiment_dir(a.out, spec)) / "runs.csv").string();
     if (!a.force && up_to_date(runs_csv, opt.metadata)) {
@@ -217,6 +248,9 @@ void add_run_command(CLI::App& app, CommandContext& ctx) {
     cmd->add_option("--backend", a->backend, "cuda, host or auto (default: the spec's, else auto)")
         ->check(CLI::IsMember({"auto", "cuda", "host"}));
     cmd->add_option("--out", a->out, "results folder; the experiment writes into DIR/<name>/")->capture_default_str();
+    cmd->add_option("--only", a->only, "run only this run id (repeatable); the table then holds only these");
+    cmd->add_option("--float64-binary", a->float64_binary,
+                    "a float64 build of sphbench (-DSPH_DOUBLE=ON) to run the runs with precision = \"float64\"");
     cmd->add_flag("--dry-run", a->dry_run, "print the expanded runs and their estimated cost; run nothing");
     cmd->add_flag("--profile", a->profile,
                   "run a short pass of each run (20 steps, nothing written) to record under Nsight Systems");

@@ -118,6 +118,12 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         snapshots->write(s);
     };
     write_snapshot(sim.snapshot());
+    std::unique_ptr<ValidationRecorder> validation;
+    if (req.validation.enabled()) {
+        validation = std::make_unique<ValidationRecorder>(scene, req.validation);
+        validation->sample(sim.snapshot());
+    }
+    const double end_time = req.validation.enabled() ? req.validation.end_time : 0.0;
 
     const long total = req.warmup + req.steps;
     Progress progress(req.scene, total, req.progress);
@@ -139,24 +145,46 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
                 }
             }
             if (snapshots && k % req.snapshot_every == 0) write_snapshot(sim.snapshot());
+            const bool ended = end_time > 0 && r.time >= end_time;
+            if (validation && (ended || k == total || validation->due(r.time))) {
+                const auto v0 = std::chrono::steady_clock::now();
+                validation->sample(sim.snapshot());
+                res.validation_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count();
+            }
             char detail[96];
             std::snprintf(detail, sizeof detail, "t = %.4f s, %.2f ms/step", r.time, update_time(r.phase_ms));
             progress.update(k, detail);
+            if (ended) break;
         }
     } catch (const BlowUpError& e) {
         progress.finish();
+        std::string where;
         if (writing) {
             SnapshotSeries last((fs::path(req.out_dir)).string(), req.basename + "_last_good");
             last.write(e.last_good);
-            throw RunError(std::string(e.what()) + "; the last good state is in " + last.xdmf_path());
+            where = "; the last good state is in " + last.xdmf_path();
         }
-        throw;
+        if (!req.record_blow_up) {
+            if (writing) throw RunError(std::string(e.what()) + where);
+            throw;
+        }
+        res.blow_up = std::string(e.what()) + where;  // a result of the study, not a failure of the run
     }
     progress.finish();
     res.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (snapshots) {
         for (const auto& f : snapshots->files()) res.files.push_back(f);
         res.files.push_back(snapshots->xdmf_path());
+    }
+    if (validation) {
+        res.validation_summary = validation->summary();
+        if (writing) {
+            Metadata meta = req.metadata;
+            meta.emplace_back("scene", req.scene);
+            for (const auto& [k, v] : res.scene_settings) meta.emplace_back("scene." + k, v);
+            const std::string path = (fs::path(req.out_dir) / (req.basename + "_validation.csv")).string();
+            res.files.push_back(validation->write_csv(path, meta));
+        }
     }
     if (writing && req.write_step_csv) {
         Metadata meta = req.metadata;

@@ -7,6 +7,7 @@
 
 #include "provenance.hpp"
 #include "simulation.hpp"
+#include "validation_recorder.hpp"
 
 namespace sph {
 
@@ -24,6 +25,8 @@ struct SceneRunRequest {
     bool progress = true;
     bool calibrate_search = false;  // time every search strategy first and run the fastest
     Metadata metadata;            // provenance lines for every file
+    ValidationRequest validation; // off unless asked for: the scene's metric at output times
+    bool record_blow_up = false;  // a blow-up ends the run and is reported in the result, not thrown
 };
 
 struct WorkTotals {
@@ -43,6 +46,9 @@ struct SceneRunResult {
     std::map<std::string, std::string> scene_settings;
     std::string transport;  // multi-subdomain runs: the transport, and why when it fell back
     std::string search_choice;  // what calibration picked, with every trial's time
+    std::vector<std::pair<std::string, double>> validation_summary;  // empty without validation
+    std::string blow_up;  // with record_blow_up: what blew up, where; empty when the run finished
+    double validation_seconds = 0;  // wall time spent on validation samples (inside wall_seconds)
 };
 
 // Throws InputError for bad input and RunError (BlowUpError) when the run fails; on a

@@ -35,6 +35,7 @@ const std::vector<SettingInfo>& settings() {
         {"fixed_dt", SettingKind::number, "0", 0, 1e3},
         {"cfl", SettingKind::number, "0", 0, 1},
         {"diffusion", SettingKind::boolean, "true", 0, 0},
+        {"precision", SettingKind::text, build_precision(), 0, 0},  // a build property: see build_precision()
     };
     return table;
 }
@@ -78,6 +79,11 @@ std::string check_solver_value(const std::string& key, const std::string& text) 
     if (key == "backend") {
         if (text != "auto" && text != "cuda" && text != "host")
             throw InputError("'backend' must be \"auto\", \"cuda\" or \"host\", got '" + text + "'");
+        return text;
+    }
+    if (key == "precision") {
+        if (text != "float32" && text != "float64")
+            throw InputError("'precision' must be \"float32\" or \"float64\", got '" + text + "'");
         return text;
     }
     if (key == "balancer") {
@@ -138,6 +144,14 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
     o.cfl = std::stod(c.at("cfl"));
     o.diffusion = c.at("diffusion") == "true";
     return o;
+}
+
+const char* build_precision() {
+#ifdef SPH_DOUBLE
+    return "float64";
+#else
+    return "float32";
+#endif
 }
 
 std::string format_number(double value) {

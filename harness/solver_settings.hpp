@@ -17,7 +17,8 @@ enum class SettingKind { text, integer, number, boolean };
 // backend, devices (X-slab subdomains), device (GPU of a one-subdomain run), balancer (none,
 // simple, every:K, threshold), transport (auto, host, peer, staged, nccl), cells_per_support (1..4), merge, verlet, skin (fraction of the
 // support), rebuild_every (0: on displacement), fixed_dt (0: CFL-limited), cfl (0: the
-// scene's), diffusion: the column order of runs.csv.
+// scene's), diffusion, precision (float32 or float64; default: this binary's): the column
+// order of runs.csv.
 const std::vector<std::string>& solver_setting_keys();
 bool is_solver_setting(const std::string& key);
 SettingKind solver_setting_kind(const std::string& key);
@@ -31,6 +32,10 @@ SettingMap complete_solver_settings(const SettingMap& given);
 
 // "auto" resolves to CUDA when gpu_available, else the host.
 SolverOptions to_solver_options(const SettingMap& complete, bool gpu_available);
+
+// "float32", or "float64" in a build with -DSPH_DOUBLE=ON. Precision is fixed when the solver
+// is compiled, so a run asking for the other one needs the other build (precision_delegate.hpp).
+const char* build_precision();
 
 // Shortest text that reads back as the same double.
 std::string format_number(double value);

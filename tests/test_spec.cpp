@@ -174,6 +174,14 @@ TEST_F(SpecTest, BadInputIsRefusedWithFileLineAndKey) {
         {"snapshot_every without snapshots", "snapshot_every = 5\n[[runs]]\nscene = \"tank\"\n", 4, "snapshot_every"},
         {"unknown scene", "[[runs]]\nscene = \"teapot\"\n", 5, "teapot"},
         {"bad TOML syntax", "[[runs]]\nscene = \"tank\nlabel = \"a\"\n", 5, "TOML"},
+        {"unknown key in [validation]", "[validation]\nevery = 0.1\nevry = 0.2\n[[runs]]\nscene = \"tank\"\n", 6, "evry"},
+        {"[validation] without every", "[validation]\nend_time = 0.5\n[[runs]]\nscene = \"tank\"\n", 4, "every"},
+        {"negative end_time", "[[runs]]\nscene = \"tank\"\nvalidation = { every = 0.1, end_time = -1 }\n", 6,
+         "end_time"},
+        {"validation of a scene without a metric", "[validation]\nevery = 0.1\n[[runs]]\nscene = \"dsph-dambreak\"\n",
+         6, "dsph-dambreak"},
+        {"unknown blow_up policy", "blow_up = \"ignore\"\n[[runs]]\nscene = \"tank\"\n", 4, "blow_up"},
+        {"unknown precision", "[[runs]]\nscene = \"tank\"\nsolver = { precision = \"float16\" }\n", 6, "precision"},
     };
     for (const auto& c : cases) {
         const std::string msg = error_of(head + c.text);
@@ -191,7 +199,7 @@ TEST_F(SpecTest, BadInputIsRefusedWithFileLineAndKey) {
     EXPECT_NE(msg.find("runs"), std::string::npos) << msg;
     // The example message of the issue: the known keys are listed.
     msg = error_of(head + "[[runs]]\nscene = \"tank\"\nstepz = 3\n");
-    EXPECT_NE(msg.find("unknown key 'stepz' in [[runs]] (known: scene, label, set, solver)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("unknown key 'stepz' in [[runs]] (known: scene, label, set, solver, validation)"), std::string::npos) << msg;
 }
 
 TEST_F(SpecTest, MissingFileIsAnInputError) {
