@@ -15,6 +15,8 @@ constexpr std::array<const char*, phase_count> phase_names = {
 
 constexpr const char* phase_name(Phase p) { return phase_names[std::size_t(p)]; }
 
+// In multi-subdomain runs, "exchange" is the one exchange per step (migration and ghosts
+// together, with its sort) and "migrate" the drop of stale ghosts at the start of the step.
 using PhaseTimes = std::array<double, phase_count>;  // milliseconds
 
 // The paper's "update of physical quantities": forces plus integration.
