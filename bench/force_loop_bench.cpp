@@ -39,7 +39,7 @@ Prepared& prepared(const SearchOptions& s) {
     p.sub = gpu ? make_cuda_subdomain(cfg, p.scene.size(), 0) : make_host_subdomain(cfg, p.scene.size());
     p.sub->upload(make_particle_arrays(p.scene, g));
     p.sub->sort_by_cell();
-    p.sub->kick_drift(0, 0);
+    p.sub->advance(euler_step(0));
     if (s.verlet) p.sub->build_neighbour_list(real(s.skin * p.scene.params.support));
     return cache.emplace(key, std::move(p)).first->second;
 }

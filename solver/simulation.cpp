@@ -80,7 +80,7 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
     // Prime the loop: P / rho^2 for the initial density, then the forces of the initial state.
     for (auto& d : subdomains_) {
         d->sort_by_cell();
-        d->kick_drift(0, 0);
+        d->advance(euler_step(0));
     }
     if (slabs_) {
         exchange_->exchange(subdomains_, *slabs_);
@@ -90,7 +90,7 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
     for (auto& d : subdomains_) {
         if (options_.search.verlet) d->build_neighbour_list(verlet_skin());
         options_.search.verlet ? d->compute_forces_listed() : d->compute_forces();
-        stats = merge_stats(stats, d->reduce_stats(0, limits_));
+        stats = merge_stats(stats, d->reduce_stats(euler_step(0), limits_));
         d->clock().collect();
     }
     record_.stats = stats;
@@ -184,8 +184,10 @@ double Simulation::next_dt() const {
 const StepRecord& Simulation::step() {
     const auto wall_start = std::chrono::steady_clock::now();
     const double dt = next_dt();
-    const real half = real(0.5 * dt);
     const long n = record_.step + 1;
+    // The first step, and every euler_every-th after it, is an Euler step (integration.hpp).
+    const TimeStep rule = (n - 1) % options_.euler_every == 0 ? euler_step(real(dt))
+                                                               : verlet_step(real(dt), real(record_.dt));
     const int count = int(subdomains_.size());
     record_.slices_moved = 0;
     record_.exchange = {};
@@ -197,10 +199,6 @@ const StepRecord& Simulation::step() {
             subdomains_[d]->keep_only_cells(exchange_->first_cell(exchanged_for_->begin(d)),
                                             exchange_->first_cell(exchanged_for_->end(d)));
         }
-    }
-    for (int d = 0; d < count; ++d) {
-        ScopedPhase ph(clock(d), Phase::integrate, n, d);
-        subdomains_[d]->kick_drift(half, real(dt));
     }
     if (balancer_) {
         ScopedPhase ph(host_clock_, Phase::balance, n, 0);
@@ -228,7 +226,7 @@ const StepRecord& Simulation::step() {
     StepStats stats;
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::diagnostics, n, d);
-        stats = merge_stats(stats, subdomains_[d]->reduce_stats(half, limits_));
+        stats = merge_stats(stats, subdomains_[d]->reduce_stats(rule, limits_));
     }
     if (stats.bad_id != 0xffffffffu) {
         static const char* what[] = {"", "a non-finite acceleration or density rate", "a speed above the limit",
@@ -245,7 +243,7 @@ const StepRecord& Simulation::step() {
     }
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::integrate, n, d);
-        subdomains_[d]->kick(half);
+        subdomains_[d]->advance(rule);
     }
     // The step's wall time per compute phase is the slowest subdomain's (paper: real wall time).
     record_.subdomain_ms.assign(count, PhaseTimes{});

@@ -1,6 +1,7 @@
 #pragma once
-// The time loop over a set of subdomains: (drop ghosts), kick-drift, (balance), sort, (exchange),
-// forces, diagnostics, kick; with per-phase timing, NVTX ranges and the blow-up check.
+// The time loop over a set of subdomains: (drop ghosts), (balance), sort, (exchange), forces,
+// diagnostics, advance (the Verlet update); with per-phase timing, NVTX ranges and the
+// blow-up check.
 // One subdomain is a plain single-device run; N subdomains split space into X slabs
 // (paper section 5), on N GPUs, on one GPU, or on the host.
 #include <memory>
@@ -28,6 +29,9 @@ struct SolverOptions {
     SearchOptions search;
     double cfl = 0;       // 0: the scene's
     double fixed_dt = 0;  // > 0: a fixed step (benchmarks), no CFL
+    // Every k-th step of the Verlet scheme is an Euler step (DualSPHysics's VerletSteps, 40):
+    // it keeps the even and odd steps' leapfrog chains from drifting apart.
+    int euler_every = 40;
     bool diffusion = true;  // false compiles the delta-SPH term out
     double max_speed_factor = 1.0;  // a fluid speed above this times c0 is a blow-up
     bool timing = true;  // false: no CUDA events (profiling passes); NVTX ranges stay
@@ -58,7 +62,7 @@ struct StepRecord {
     }
 };
 
-// Thrown when the state blows up; last_good holds the state before the failing kick. The
+// Thrown when the state blows up; last_good holds the state before the failing update. The
 // fields repeat what the message says, for studies that tabulate failures (sphbench stability).
 struct BlowUpError : RunError {
     BlowUpError(const std::string& what, SnapshotData state, long failed_step, std::uint32_t particle_id,

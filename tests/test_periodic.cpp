@@ -139,7 +139,7 @@ TEST(PeriodicSearch, VerletListsGiveTheCellSearchForces) {
         auto d = make_host_subdomain({s.params, g.view, s.kernel, true, {1, false}}, s.size());
         d->upload(make_particle_arrays(s, g));
         d->sort_by_cell();
-        d->kick_drift(0, 0);
+        d->advance(euler_step(0));
         if (listed) {
             d->build_neighbour_list(real(0.1) * s.params.support);
             d->compute_forces_listed();
@@ -173,7 +173,7 @@ TEST(PeriodicSearch, ParticlesCrossingAFaceKeepTheirNeighbours) {
     std::set<std::pair<std::uint32_t, std::uint32_t>> pairs_before;
     for (const auto& p : before) pairs_before.insert({std::get<0>(p), std::get<1>(p)});
     for (int k = 0; k < 40; ++k) {  // 40 x 0.03 s x 0.71 m/s = 2.9 periods along x
-        d->kick_drift(0, real(0.03));
+        d->advance(euler_step(real(0.03)));
         d->sort_by_cell();
     }
     // The images change as particles wrap, so compare pairs by id, judged at the new positions.

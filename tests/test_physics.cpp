@@ -25,7 +25,7 @@ TEST(Forces, MatchABruteForceFloat64Reference) {
     auto d = make_host_subdomain({s.params, g.view, s.kernel, true, {1, false}}, s.size());
     d->upload(make_particle_arrays(s, g));
     d->sort_by_cell();
-    d->kick_drift(0, 0);  // computes P / rho^2 (and floors boundary density at rho0)
+    d->advance(euler_step(0));  // computes P / rho^2 (and floors boundary density at rho0)
     d->compute_forces();
     const ParticleArrays a = d->download();
 

@@ -17,9 +17,14 @@ struct ActiveRange {
 
 void make_sort_keys(const std::uint32_t* cell, const std::uint32_t* id, std::uint64_t* keys, std::uint32_t* order,
                     std::uint32_t n, cudaStream_t s);
-void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, const real4* pos_in, const real4* velrho_in,
-                   real4* pos_out, real4* velrho_out, std::uint32_t* cell, std::uint32_t* id, std::uint32_t n,
-                   cudaStream_t s);
+// The real4 arrays a sort permutes: positions, velocity and density, the previous step's.
+struct SortedArrays {
+    real4* pos;
+    real4* velrho;
+    real4* velrho_prev;
+};
+void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, SortedArrays in, SortedArrays out,
+                   std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, cudaStream_t s);
 void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::uint32_t cell_count,
                       std::uint32_t* cell_start, cudaStream_t s);
 // Marks the particles of in-domain cells outside [begin, end) as ghosts (particle.hpp).
@@ -37,14 +42,12 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
 std::size_t longest_list_temp_bytes(std::uint32_t n);
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
                            ActiveRange range, std::uint32_t n, cudaStream_t s);
-void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
-                const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s);
-void kick(real4* velrho, const real4* force, real half_dt, const SubdomainConfig& cfg, ActiveRange range,
-          std::uint32_t n, cudaStream_t s);
+void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
+             const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s);
 // Bytes of temporary storage reduce_stats needs for n particles.
 std::size_t reduce_stats_temp_bytes(std::uint32_t n);
-void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, ActiveRange range,
-                  real half_dt, const PhysicsParams& p, const StatsLimits& lim, std::uint32_t n, void* temp,
+void reduce_stats(const real4* velrho, const real4* velrho_prev, const real4* force, const std::uint32_t* id,
+                  ActiveRange range, const TimeStep& step, const PhysicsParams& p, const StatsLimits& lim, std::uint32_t n, void* temp,
                   std::size_t temp_bytes, StepStats* out, cudaStream_t s);
 void count_work(const SubdomainConfig& cfg, const ForceInputs& in, ActiveRange range, std::uint32_t n,
                 unsigned long long* counters3, cudaStream_t s);

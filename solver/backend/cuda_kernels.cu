@@ -26,14 +26,14 @@ __global__ void make_sort_keys_kernel(const std::uint32_t* cell, const std::uint
     order[i] = i;
 }
 
-__global__ void gather_sorted_kernel(const std::uint64_t* keys, const std::uint32_t* order, const real4* pos_in,
-                                     const real4* velrho_in, real4* pos_out, real4* velrho_out, std::uint32_t* cell,
-                                     std::uint32_t* id, std::uint32_t n) {
+__global__ void gather_sorted_kernel(const std::uint64_t* keys, const std::uint32_t* order, SortedArrays in,
+                                     SortedArrays out, std::uint32_t* cell, std::uint32_t* id, std::uint32_t n) {
     const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
     if (k >= n) return;
     const std::uint32_t j = order[k];
-    pos_out[k] = pos_in[j];
-    velrho_out[k] = velrho_in[j];
+    out.pos[k] = in.pos[j];
+    out.velrho[k] = in.velrho[j];
+    out.velrho_prev[k] = in.velrho_prev[j];
     const std::uint64_t key = keys[k];
     cell[k] = std::uint32_t(key >> 32);
     id[k] = std::uint32_t(key);
@@ -78,19 +78,11 @@ __global__ void __launch_bounds__(block_size) forces_listed_kernel(ForceInputs i
 }
 
 template <bool IntegrateBoundary>
-__global__ void kick_drift_kernel(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt,
-                                  real dt, GridView g, PhysicsParams p, ActiveRange range) {
+__global__ void advance_kernel(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
+                               TimeStep step, GridView g, PhysicsParams p, ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= *range.end) return;
-    particle_kick_drift<IntegrateBoundary>(i, pos, velrho, cell, force, half_dt, dt, g, p);
-}
-
-template <bool IntegrateBoundary>
-__global__ void kick_kernel(real4* velrho, const real4* force, real half_dt, PhysicsParams p,
-                            ActiveRange range) {
-    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
-    if (i >= *range.end) return;
-    particle_kick<IntegrateBoundary>(i, velrho, force, half_dt, p);
+    particle_advance<IntegrateBoundary>(i, pos, velrho, velrho_prev, cell, force, step, g, p);
 }
 
 template <class Search>
@@ -114,15 +106,16 @@ __global__ void count_work_kernel(ForceInputs in, PhysicsParams p, ActiveRange r
 // Per-particle statistics as an iterator, so one CUB reduction does all of them.
 struct StatsOfParticle {
     const real4* velrho;
+    const real4* velrho_prev;
     const real4* force;
     const std::uint32_t* id;
     ActiveRange range;
-    real half_dt;
+    TimeStep step;
     PhysicsParams p;
     StatsLimits lim;
     __device__ StepStats operator()(std::uint32_t i) const {
         if (i < *range.begin || i >= *range.end) return StepStats{};
-        return particle_stats(i, velrho, force, id, half_dt, p, lim);
+        return particle_stats(i, velrho, velrho_prev, force, id, step, p, lim);
     }
 };
 struct MergeStats {
@@ -142,12 +135,10 @@ void make_sort_keys(const std::uint32_t* cell, const std::uint32_t* id, std::uin
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, const real4* pos_in, const real4* velrho_in,
-                   real4* pos_out, real4* velrho_out, std::uint32_t* cell, std::uint32_t* id, std::uint32_t n,
-                   cudaStream_t s) {
+void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, SortedArrays in, SortedArrays out,
+                   std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    gather_sorted_kernel<<<blocks_for(n), block_size, 0, s>>>(keys, order, pos_in, velrho_in, pos_out, velrho_out,
-                                                               cell, id, n);
+    gather_sorted_kernel<<<blocks_for(n), block_size, 0, s>>>(keys, order, in, out, cell, id, n);
     SPH_CUDA_CHECK_LAUNCH();
 }
 
@@ -219,25 +210,15 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void kick_drift(real4* pos, real4* velrho, std::uint32_t* cell, const real4* force, real half_dt, real dt,
-                const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s) {
+void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
+             const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
     if (cfg.integrate_boundary)
-        kick_drift_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, cell, force, half_dt, dt, cfg.grid,
-                                                                      cfg.params, range);
+        advance_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, step,
+                                                                   cfg.grid, cfg.params, range);
     else
-        kick_drift_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, cell, force, half_dt, dt, cfg.grid,
-                                                                       cfg.params, range);
-    SPH_CUDA_CHECK_LAUNCH();
-}
-
-void kick(real4* velrho, const real4* force, real half_dt, const SubdomainConfig& cfg, ActiveRange range,
-          std::uint32_t n, cudaStream_t s) {
-    if (n == 0) return;
-    if (cfg.integrate_boundary)
-        kick_kernel<true><<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, cfg.params, range);
-    else
-        kick_kernel<false><<<blocks_for(n), block_size, 0, s>>>(velrho, force, half_dt, cfg.params, range);
+        advance_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, step,
+                                                                    cfg.grid, cfg.params, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 
@@ -248,10 +229,10 @@ std::size_t reduce_stats_temp_bytes(std::uint32_t n) {
     return bytes;
 }
 
-void reduce_stats(const real4* velrho, const real4* force, const std::uint32_t* id, ActiveRange range,
-                  real half_dt, const PhysicsParams& p, const StatsLimits& lim, std::uint32_t n, void* temp,
-                  std::size_t temp_bytes, StepStats* out, cudaStream_t s) {
-    const StatsOfParticle op{velrho, force, id, range, half_dt, p, lim};
+void reduce_stats(const real4* velrho, const real4* velrho_prev, const real4* force, const std::uint32_t* id,
+                  ActiveRange range, const TimeStep& step, const PhysicsParams& p, const StatsLimits& lim,
+                  std::uint32_t n, void* temp, std::size_t temp_bytes, StepStats* out, cudaStream_t s) {
+    const StatsOfParticle op{velrho, velrho_prev, force, id, range, step, p, lim};
     SPH_CUDA_CHECK(cub::DeviceReduce::Reduce(temp, temp_bytes, stats_iterator(op), out, n, MergeStats{}, StepStats{}, s));
 }
 

@@ -15,7 +15,7 @@ namespace {
 
 // Bytes per particle of the buffers below (what the memory estimate and the report use).
 constexpr std::size_t bytes_per_particle =
-    2 * sizeof(real4) * 2 + sizeof(real4) + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t) +
+    3 * sizeof(real4) * 2 + sizeof(real4) + 2 * sizeof(std::uint32_t) + 2 * sizeof(std::uint64_t) +
     2 * sizeof(std::uint32_t);
 
 class CudaSubdomain final : public Subdomain {
@@ -44,7 +44,7 @@ public:
                           total_b / 1073741824.0);
             throw InputError(msg);
         }
-        for (auto* b : {&pos_, &pos_alt_, &velrho_, &velrho_alt_}) b->allocate(capacity);
+        for (auto* b : {&pos_, &pos_alt_, &velrho_, &velrho_alt_, &velrho_prev_, &velrho_prev_alt_}) b->allocate(capacity);
         force_.allocate(capacity);
         cell_.allocate(capacity);
         id_.allocate(capacity);
@@ -78,6 +78,7 @@ public:
         if (n_ > pos_.size()) throw RunError("more particles than the CUDA subdomain was sized for");
         pos_.upload(p.pos.data(), n_, stream_);
         velrho_.upload(p.velrho.data(), n_, stream_);
+        velrho_prev_.upload(p.velrho_prev.empty() ? p.velrho.data() : p.velrho_prev.data(), n_, stream_);
         cell_.upload(p.cell.data(), n_, stream_);
         id_.upload(p.id.data(), n_, stream_);
         if (!p.force.empty()) force_.upload(p.force.data(), n_, stream_);
@@ -95,11 +96,13 @@ public:
         ParticleArrays p;
         p.pos.resize(n_);
         p.velrho.resize(n_);
+        p.velrho_prev.resize(n_);
         p.force.resize(n_);
         p.cell.resize(n_);
         p.id.resize(n_);
         pos_.download(p.pos.data(), n_, stream_);
         velrho_.download(p.velrho.data(), n_, stream_);
+        velrho_prev_.download(p.velrho_prev.data(), n_, stream_);
         force_.download(p.force.data(), n_, stream_);
         cell_.download(p.cell.data(), n_, stream_);
         id_.download(p.id.data(), n_, stream_);
@@ -128,7 +131,7 @@ public:
         };
         move(pos_, pos_alt_);
         move(velrho_, velrho_alt_);
-        move(force_, pos_alt_);  // the next kick reads the forces of the kept particles
+        move(velrho_prev_, velrho_prev_alt_);  // forces are recomputed before they are read
         // cell and id have no spare of their own: the sort's key buffers serve (8 bytes each).
         auto* cell_spare = reinterpret_cast<std::uint32_t*>(keys_alt_.data());
         auto* id_spare = cell_spare + pos_.size();
@@ -142,7 +145,7 @@ public:
         }
         n_ = kept + out_n;
         // Until the next sort, the kept cells' particles are [0, kept): the active range of
-        // kernels launched before that sort (the kick after ghosts were dropped) reads these.
+        // kernels launched before that sort (the next advance, should one come before the sort) reads these.
         const std::uint32_t bounds[2] = {0, kept};
         SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + begin, &bounds[0], 4, cudaMemcpyHostToDevice, stream_));
         SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + end, &bounds[1], 4, cudaMemcpyHostToDevice, stream_));
@@ -153,8 +156,8 @@ public:
         active_stale_ = true;
     }
     ParticleSpan particles(std::size_t first, std::size_t count) override {
-        return {pos_.data() + first, velrho_.data() + first, cell_.data() + first, id_.data() + first, count, device_,
-                stream_};
+        return {pos_.data() + first, velrho_.data() + first, velrho_prev_.data() + first, cell_.data() + first,
+                id_.data() + first, count, device_, stream_};
     }
     ParticleSpan receive_area(std::size_t count) override {
         use_device();
@@ -162,11 +165,13 @@ public:
             const std::size_t room = count + count / 2;
             recv_pos_.allocate(room);
             recv_velrho_.allocate(room);
+            recv_velrho_prev_.allocate(room);
             recv_cell_.allocate(room);
             recv_id_.allocate(room);
         }
         received_ = count;
-        return {recv_pos_.data(), recv_velrho_.data(), recv_cell_.data(), recv_id_.data(), count, device_, stream_};
+        return {recv_pos_.data(), recv_velrho_.data(), recv_velrho_prev_.data(), recv_cell_.data(), recv_id_.data(),
+                count, device_, stream_};
     }
     void accept_received() override {
         use_device();
@@ -182,6 +187,7 @@ public:
         };
         copy(pos_.data(), recv_pos_.data());
         copy(velrho_.data(), recv_velrho_.data());
+        copy(velrho_prev_.data(), recv_velrho_prev_.data());
         copy(cell_.data(), recv_cell_.data());
         copy(id_.data(), recv_id_.data());
         n_ += std::uint32_t(m);
@@ -216,10 +222,12 @@ public:
         cub::DoubleBuffer<std::uint32_t> vb(order_.data(), order_alt_.data());
         std::size_t tb = temp_bytes_;
         SPH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(temp_.data(), tb, kb, vb, int(n_), 0, key_bits_, stream_));
-        gpu::gather_sorted(kb.Current(), vb.Current(), pos_.data(), velrho_.data(), pos_alt_.data(),
-                           velrho_alt_.data(), cell_.data(), id_.data(), n_, stream_);
+        gpu::gather_sorted(kb.Current(), vb.Current(), {pos_.data(), velrho_.data(), velrho_prev_.data()},
+                           {pos_alt_.data(), velrho_alt_.data(), velrho_prev_alt_.data()}, cell_.data(), id_.data(), n_,
+                           stream_);
         pos_.swap(pos_alt_);
         velrho_.swap(velrho_alt_);
+        velrho_prev_.swap(velrho_prev_alt_);
         gpu::build_cell_start(cell_.data(), n_, cfg_.grid.cell_count(), cell_start_.data(), stream_);
         active_stale_ = true;
     }
@@ -253,20 +261,16 @@ public:
     }
     std::size_t neighbour_list_bytes() const override { return list_index_.bytes() + list_count_.bytes(); }
 
-    void kick_drift(real half_dt, real dt) override {
+    void advance(const TimeStep& step) override {
         use_device();
-        gpu::kick_drift(pos_.data(), velrho_.data(), cell_.data(), force_.data(), half_dt, dt, cfg_, active_range(),
-                        n_, stream_);
-    }
-    void kick(real half_dt) override {
-        use_device();
-        gpu::kick(velrho_.data(), force_.data(), half_dt, cfg_, active_range(), n_, stream_);
+        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), force_.data(), step, cfg_,
+                     active_range(), n_, stream_);
     }
 
-    StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
+    StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) override {
         use_device();
-        gpu::reduce_stats(velrho_.data(), force_.data(), id_.data(), active_range(), half_dt, cfg_.params, limits, n_,
-                          temp_.data(), temp_bytes_, stats_.data(), stream_);
+        gpu::reduce_stats(velrho_.data(), velrho_prev_.data(), force_.data(), id_.data(), active_range(), step,
+                          cfg_.params, limits, n_, temp_.data(), temp_bytes_, stats_.data(), stream_);
         stats_.download(host_stats_, 1, stream_);
         SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
         return *host_stats_;
@@ -318,7 +322,7 @@ private:
     std::string name_;
     cudaStream_t stream_ = nullptr;
     CudaPhaseClock clock_;
-    DeviceBuffer<real4> pos_, pos_alt_, velrho_, velrho_alt_, force_;
+    DeviceBuffer<real4> pos_, pos_alt_, velrho_, velrho_alt_, velrho_prev_, velrho_prev_alt_, force_;
     DeviceBuffer<std::uint32_t> cell_, id_, order_, order_alt_, cell_start_;
     DeviceBuffer<std::uint64_t> keys_, keys_alt_;
     DeviceBuffer<unsigned char> temp_;
@@ -327,7 +331,7 @@ private:
     DeviceBuffer<std::uint32_t> list_index_, list_count_, counters32_{1};
     std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
-    DeviceBuffer<real4> recv_pos_, recv_velrho_;  // the receive area of exchanges
+    DeviceBuffer<real4> recv_pos_, recv_velrho_, recv_velrho_prev_;  // the receive area of exchanges
     DeviceBuffer<std::uint32_t> recv_cell_, recv_id_;
     std::size_t received_ = 0;
     std::size_t temp_bytes_ = 0;

@@ -76,6 +76,7 @@ public:
             };
             copy(dst.pos, src.pos);
             copy(dst.velrho, src.velrho);
+            copy(dst.velrho_prev, src.velrho_prev);
             copy(dst.cell, src.cell);
             copy(dst.id, src.id);
         }
@@ -106,6 +107,7 @@ public:
             };
             down(host.pos, src.pos);
             down(host.velrho, src.velrho);
+            down(host.velrho_prev, src.velrho_prev);
             down(host.cell, src.cell);
             down(host.id, src.id);
             at += t.count;
@@ -121,6 +123,7 @@ public:
             };
             up(dst.pos, host.pos);
             up(dst.velrho, host.velrho);
+            up(dst.velrho_prev, host.velrho_prev);
             up(dst.cell, host.cell);
             up(dst.id, host.id);
             at += t.count;
@@ -158,6 +161,7 @@ public:
             };
             pass(dst.pos, src.pos);
             pass(dst.velrho, src.velrho);
+            pass(dst.velrho_prev, src.velrho_prev);
             pass(dst.cell, src.cell);
             pass(dst.id, src.id);
         }

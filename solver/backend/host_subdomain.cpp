@@ -20,6 +20,7 @@ public:
 
     void upload(const ParticleArrays& p) override {
         a_ = p;
+        if (a_.velrho_prev.empty()) a_.velrho_prev = a_.velrho;
         a_.force.assign(p.size(), real4{0, 0, 0, 0});
         if (!p.force.empty()) a_.force = p.force;
         owned_lo_ = 0;
@@ -48,22 +49,26 @@ public:
         };
         keep(a_.pos);
         keep(a_.velrho);
+        keep(a_.velrho_prev);
         keep(a_.cell);
         keep(a_.id);
-        keep(a_.force);  // the next kick reads the forces of the kept particles
+        a_.force.resize(a_.size());  // forces are recomputed before they are read
         update_owned_range_after_keep(hi - lo);
     }
     ParticleSpan particles(std::size_t first, std::size_t count) override {
-        return {a_.pos.data() + first, a_.velrho.data() + first, a_.cell.data() + first, a_.id.data() + first, count};
+        return {a_.pos.data() + first, a_.velrho.data() + first, a_.velrho_prev.data() + first,
+                a_.cell.data() + first, a_.id.data() + first, count};
     }
     ParticleSpan receive_area(std::size_t count) override {
-        for (auto* v : {&received_.pos, &received_.velrho}) v->resize(count);
+        for (auto* v : {&received_.pos, &received_.velrho, &received_.velrho_prev}) v->resize(count);
         for (auto* v : {&received_.cell, &received_.id}) v->resize(count);
-        return {received_.pos.data(), received_.velrho.data(), received_.cell.data(), received_.id.data(), count};
+        return {received_.pos.data(), received_.velrho.data(), received_.velrho_prev.data(), received_.cell.data(),
+                received_.id.data(), count};
     }
     void accept_received() override {
         a_.pos.insert(a_.pos.end(), received_.pos.begin(), received_.pos.end());
         a_.velrho.insert(a_.velrho.end(), received_.velrho.begin(), received_.velrho.end());
+        a_.velrho_prev.insert(a_.velrho_prev.end(), received_.velrho_prev.begin(), received_.velrho_prev.end());
         a_.cell.insert(a_.cell.end(), received_.cell.begin(), received_.cell.end());
         a_.id.insert(a_.id.end(), received_.id.begin(), received_.id.end());
         a_.force.resize(a_.size());
@@ -88,6 +93,7 @@ public:
         std::sort(order_.begin(), order_.end(), [&](std::uint32_t x, std::uint32_t y) { return keys_[x] < keys_[y]; });
         gather(a_.pos);
         gather(a_.velrho);
+        gather(a_.velrho_prev);
         gather(a_.cell);
         gather(a_.id);
         // cell_start[c] = first sorted particle with cell >= c.
@@ -161,15 +167,11 @@ public:
         return (list_index_.size() + list_count_.size()) * sizeof(std::uint32_t);
     }
 
-    void kick_drift(real half_dt, real dt) override {
-        cfg_.integrate_boundary ? kick_drift_loop<true>(half_dt, dt) : kick_drift_loop<false>(half_dt, dt);
+    void advance(const TimeStep& step) override {
+        cfg_.integrate_boundary ? advance_loop<true>(step) : advance_loop<false>(step);
     }
 
-    void kick(real half_dt) override {
-        cfg_.integrate_boundary ? kick_loop<true>(half_dt) : kick_loop<false>(half_dt);
-    }
-
-    StepStats reduce_stats(real half_dt, const StatsLimits& limits) override {
+    StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) override {
         StepStats total;
         const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
 #pragma omp parallel
@@ -177,8 +179,8 @@ public:
             StepStats local;
 #pragma omp for schedule(static) nowait
             for (std::ptrdiff_t i = lo; i < n; ++i)
-                local = merge_stats(local, particle_stats(std::uint32_t(i), a_.velrho.data(), a_.force.data(),
-                                                          a_.id.data(), half_dt, cfg_.params, limits));
+                local = merge_stats(local, particle_stats(std::uint32_t(i), a_.velrho.data(), a_.velrho_prev.data(),
+                                                          a_.force.data(), a_.id.data(), step, cfg_.params, limits));
 #pragma omp critical
             total = merge_stats(total, local);
         }
@@ -204,26 +206,19 @@ public:
 
     std::size_t active_count() const override { return owned_hi_ - owned_lo_; }
     std::size_t bytes_allocated() const override {
-        return a_.size() * (2 * sizeof(real4) + sizeof(real4) + 2 * sizeof(std::uint32_t) + 12) +
+        return a_.size() * (4 * sizeof(real4) + 2 * sizeof(std::uint32_t) + 12) +
                cell_start_.size() * sizeof(std::uint32_t) + neighbour_list_bytes();
     }
     PhaseClock& clock() override { return clock_; }
 
 private:
     template <bool IntegrateBoundary>
-    void kick_drift_loop(real half_dt, real dt) {
+    void advance_loop(const TimeStep& step) {
         const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
 #pragma omp parallel for schedule(static)
         for (std::ptrdiff_t i = lo; i < n; ++i)
-            particle_kick_drift<IntegrateBoundary>(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.cell.data(),
-                                                   a_.force.data(), half_dt, dt, cfg_.grid, cfg_.params);
-    }
-    template <bool IntegrateBoundary>
-    void kick_loop(real half_dt) {
-        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
-#pragma omp parallel for schedule(static)
-        for (std::ptrdiff_t i = lo; i < n; ++i)
-            particle_kick<IntegrateBoundary>(std::uint32_t(i), a_.velrho.data(), a_.force.data(), half_dt, cfg_.params);
+            particle_advance<IntegrateBoundary>(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(),
+                                                a_.cell.data(), a_.force.data(), step, cfg_.grid, cfg_.params);
     }
     // After keep_only_cells the owned particles, still in cell order, start at 0.
     void update_owned_range_after_keep(std::size_t kept) {

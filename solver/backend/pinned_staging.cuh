@@ -13,13 +13,13 @@ public:
     ~PinnedStaging() {
         if (ptr_) cudaFreeHost(ptr_);
     }
-    // The transfer layout of m particles: positions, velocities, cells, ids, back to back.
+    // The transfer layout of m particles: positions, velocities (now and the previous step), cells, ids, back to back.
     struct Layout {
-        real4 *pos, *velrho;
+        real4 *pos, *velrho, *velrho_prev;
         std::uint32_t *cell, *id;
     };
     Layout particles(std::size_t m) {
-        const std::size_t need = m * (2 * sizeof(real4) + 2 * sizeof(std::uint32_t));
+        const std::size_t need = m * (3 * sizeof(real4) + 2 * sizeof(std::uint32_t));
         if (need > bytes_) {
             if (ptr_) SPH_CUDA_CHECK(cudaFreeHost(ptr_));
             ptr_ = nullptr;
@@ -27,8 +27,8 @@ public:
             SPH_CUDA_CHECK(cudaMallocHost(&ptr_, bytes_));
         }
         auto* pos = static_cast<real4*>(ptr_);
-        auto* cell = reinterpret_cast<std::uint32_t*>(pos + 2 * m);
-        return {pos, pos + m, cell, cell + m};
+        auto* cell = reinterpret_cast<std::uint32_t*>(pos + 3 * m);
+        return {pos, pos + m, pos + 2 * m, cell, cell + m};
     }
 
 private:

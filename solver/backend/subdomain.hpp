@@ -12,14 +12,17 @@
 #include "core/smoothing_kernels.hpp"
 #include "neighbours/cell_search.hpp"
 #include "neighbours/grid.hpp"
+#include "physics/integration.hpp"
 #include "physics/interaction.hpp"
 #include "physics/step_stats.hpp"
 
 namespace sph {
 
 // The particle arrays as the host sees them (same encoding as on the device, see particle.hpp).
+// velrho_prev is the previous step's velocity and density, which the Verlet scheme steps
+// from (physics/integration.hpp); upload() takes velrho when it is empty.
 struct ParticleArrays {
-    std::vector<real4> pos, velrho, force;
+    std::vector<real4> pos, velrho, velrho_prev, force;
     std::vector<std::uint32_t> cell, id;
     std::size_t size() const { return id.size(); }
 };
@@ -29,6 +32,7 @@ struct ParticleArrays {
 struct ParticleSpan {
     real4* pos = nullptr;
     real4* velrho = nullptr;
+    real4* velrho_prev = nullptr;
     std::uint32_t* cell = nullptr;
     std::uint32_t* id = nullptr;
     std::size_t count = 0;
@@ -69,17 +73,17 @@ public:
     virtual void build_neighbour_list(real skin) = 0;
     virtual void compute_forces_listed() = 0;
     virtual std::size_t neighbour_list_bytes() const = 0;
-    // Phase integrate: the first half kick and the drift, then the final half kick.
-    virtual void kick_drift(real half_dt, real dt) = 0;
-    virtual void kick(real half_dt) = 0;
-    // Phase diagnostics: reductions over the state the final kick will produce.
-    virtual StepStats reduce_stats(real half_dt, const StatsLimits& limits) = 0;
+    // Phase integrate: one step of the owned particles from the forces just computed; it
+    // also refreshes P / rho^2, so advance(euler_step(0)) primes a freshly uploaded state.
+    virtual void advance(const TimeStep& step) = 0;
+    // Phase diagnostics: reductions over the state advance(step) will produce.
+    virtual StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) = 0;
     // Not timed: counts the neighbour search's work for the current sorted state.
     virtual WorkCounters count_work() = 0;
 
     // Multi-device support. After a sort, the particles of a cell range are one contiguous
     // range (cells are x-major, so a range of X slices is a range of cells).
-    // Per-particle phases (kicks, forces, statistics) act on the particles of the owned cells;
+    // Per-particle phases (update, forces, statistics) act on the particles of the owned cells;
     // the rest are ghosts of neighbours or particles that left the domain. Setting the owned
     // cells also marks every particle of another in-domain cell as a ghost (ghost_id_flag).
     virtual void set_owned_cells(std::uint32_t begin, std::uint32_t end) = 0;

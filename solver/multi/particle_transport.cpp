@@ -7,7 +7,7 @@
 namespace sph {
 namespace {
 
-// Host subdomains share one address space: a transfer is four array copies.
+// Host subdomains share one address space: a transfer is five array copies.
 class HostCopyTransport final : public ParticleTransport {
 public:
     std::string name() const override { return "host"; }
@@ -18,6 +18,7 @@ public:
             const ParticleSpan& dst = areas[t.to];
             std::copy_n(src.pos, t.count, dst.pos + t.offset);
             std::copy_n(src.velrho, t.count, dst.velrho + t.offset);
+            std::copy_n(src.velrho_prev, t.count, dst.velrho_prev + t.offset);
             std::copy_n(src.cell, t.count, dst.cell + t.offset);
             std::copy_n(src.id, t.count, dst.id + t.offset);
         }

@@ -1,6 +1,10 @@
 #pragma once
 // The pair interaction of weakly compressible SPH, written once for both backends:
 //   continuity  d rho_i/dt = sum_j m (v_i - v_j) . grad W_ij   (+ delta-SPH diffusion, fluid pairs)
+// The diffusion of Molteni and Colagrossi (2009) acts on the density difference less its
+// hydrostatic part (Fourtakas et al. 2019, linearised: rho_i^H - rho_j^H = rho0 g . r_ij / c0^2,
+// from dP = rho0 g . dr and dP/drho = c0^2 near rho0). Diffusing the whole difference would
+// flatten the hydrostatic density gradient: a settled tank reads low at the floor.
 //   momentum    dv_i/dt    = -sum_j m (P_i/rho_i^2 + P_j/rho_j^2 + Pi_ij) grad W_ij + g
 // with Monaghan's artificial viscosity Pi_ij, plus, when nu > 0, the laminar viscosity of
 // Lo and Shao (2002) (Morris et al. 1997 with a constant nu):
@@ -32,13 +36,15 @@ struct PairSums {
     real4 pos_i, vr_i;
     bool fluid_i;
     real rho_i, diffusion_coef, visc_coef, laminar_coef;
+    real3 hydrostatic_drho;  // rho0 g / c0^2: d rho^H / d r
     real3 acc{0, 0, 0};
     real drho = 0;
 
     SPH_HD PairSums(std::uint32_t i, const ForceInputs& in_, const PhysicsParams& p_, const Kernel& k)
         : in(in_), p(p_), kernel(k), pos_i(in_.pos[i]), vr_i(in_.velrho[i]), fluid_i(!is_boundary(vr_i)),
           rho_i(density(vr_i)), diffusion_coef(Diffusion ? 2 * p_.delta * p_.h * p_.c0 * p_.mass : real(0)),
-          visc_coef(p_.alpha * p_.h * p_.c0), laminar_coef(4 * p_.nu * p_.mass) {}
+          visc_coef(p_.alpha * p_.h * p_.c0), laminar_coef(4 * p_.nu * p_.mass),
+          hydrostatic_drho((p_.rho0 / (p_.c0 * p_.c0)) * p_.gravity) {}
 
     SPH_HD void add(std::uint32_t j, const real3& rij, real r2) {
         if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
@@ -51,7 +57,7 @@ struct PairSums {
         drho += p.mass * fac * vdotr;  // m (v_ij . r_ij) F, with grad W = r_ij F
         const real rho_j = density(vr_j);
         if (Diffusion && fluid_i && fluid_j)
-            drho += diffusion_coef * (rho_i - rho_j) / rho_j * r2 * fac / (r2 + p.eta2);
+            drho += diffusion_coef * (rho_i - rho_j - dot(hydrostatic_drho, rij)) / rho_j * r2 * fac / (r2 + p.eta2);
         if (fluid_i) {
             real pi_ij = 0;
             if (vdotr < 0) pi_ij = -visc_coef * vdotr / ((r2 + p.eta2) * real(0.5) * (rho_i + rho_j));

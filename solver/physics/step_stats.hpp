@@ -1,12 +1,13 @@
 #pragma once
 // Per-step reductions: what the CFL time step needs (largest acceleration and velocity),
 // what the per-step CSV reports (kinetic energy, density range), and the blow-up check.
-// They are taken over the state the final kick is about to produce, so a blow-up is caught
+// They are taken over the state the step's update is about to produce, so a blow-up is caught
 // before it is written and the state in memory is still the last good one.
 #include <cfloat>
 
 #include "core/params.hpp"
 #include "core/particle.hpp"
+#include "physics/integration.hpp"
 
 namespace sph {
 
@@ -41,14 +42,16 @@ SPH_HD StepStats merge_stats(const StepStats& a, const StepStats& b) {
     return r;
 }
 
-SPH_HD StepStats particle_stats(std::uint32_t i, const real4* velrho, const real4* force, const std::uint32_t* id,
-                                real half_dt, const PhysicsParams& p, const StatsLimits& lim) {
+SPH_HD StepStats particle_stats(std::uint32_t i, const real4* velrho, const real4* velrho_prev, const real4* force,
+                                const std::uint32_t* id, const TimeStep& step, const PhysicsParams& p,
+                                const StatsLimits& lim) {
     StepStats s;
     const real4 vr = velrho[i];
     if (is_boundary(vr)) return s;
     const real4 f = force[i];
-    const real3 v = make3(vr.x + half_dt * f.x, vr.y + half_dt * f.y, vr.z + half_dt * f.z);
-    const real rho = vr.w + half_dt * f.w;
+    const real4 next = stepped_velrho<true>(vr, velrho_prev[i], f, step, p);
+    const real3 v = xyz(next);
+    const real rho = next.w;
     s.max_accel2 = f.x * f.x + f.y * f.y + f.z * f.z;
     s.max_speed2 = dot(v, v);
     s.kinetic_energy = 0.5 * double(p.mass) * double(s.max_speed2);
