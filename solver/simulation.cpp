@@ -44,6 +44,9 @@ ParticleArrays make_particle_arrays(const Scene& s, const Grid& g) {
 
 Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene_(scene), options_(options) {
     if (options_.cfl <= 0) options_.cfl = scene_.cfl;
+    if (options_.euler_every < 1)
+        throw InputError("euler_every must be at least 1 (every k-th step an Euler step), got " +
+                         std::to_string(options_.euler_every));
     std::array<double, 3> lo = scene_.lo, hi = scene_.hi;
     if (options_.grid_fits_particles && scene_.size() > 0) {
         // Periodic axes keep the whole period: the wrap is defined on the scene's domain.

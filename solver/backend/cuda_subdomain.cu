@@ -304,7 +304,7 @@ public:
 
 private:
     ForceInputs inputs() const {
-        return {pos_.data(), velrho_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
+        return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
     }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     // Subdomains of one run live on different GPUs and share the host thread: every entry

@@ -231,7 +231,7 @@ private:
         owned_hi_ = cell_start_[std::min(owned_cells_[1], ncells)];
     }
     ForceInputs inputs() const {
-        return {a_.pos.data(), a_.velrho.data(), a_.cell.data(), cell_start_.data(), cfg_.grid};
+        return {a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(), a_.cell.data(), cell_start_.data(), cfg_.grid};
     }
     template <class T>
     void gather(std::vector<T>& v) {

@@ -11,6 +11,11 @@
 //   dv_i/dt  += sum_j m 4 nu (r_ij . grad W_ij) / ((rho_i + rho_j)(r_ij^2 + eta^2)) v_ij
 // which makes a Newtonian flow have the viscosity nu. Boundary particles (dynamic boundary
 // conditions) gather density from fluid neighbours only and do not move.
+// The dissipative terms (both viscosities and the diffusion) read the previous step's
+// velocity and density: the Verlet step (integration.hpp) then applies them as forward Euler
+// from step n-1, which damps. Centred on step n, a leapfrog step grows its computational
+// (odd-even) mode under any damping (Durran, Numerical Methods for Fluid Dynamics, 2.4.2):
+// a random particle cloud blew up within 30 steps that way.
 #include "core/params.hpp"
 #include "core/particle.hpp"
 #include "neighbours/cell_search.hpp"
@@ -21,6 +26,7 @@ namespace sph {
 struct ForceInputs {
     const real4* pos;
     const real4* velrho;
+    const real4* velrho_prev;  // the previous step's, for the dissipative terms
     const std::uint32_t* cell;
     const std::uint32_t* cell_start;
     GridView grid;
@@ -33,7 +39,7 @@ struct PairSums {
     const ForceInputs& in;
     const PhysicsParams& p;
     const Kernel& kernel;
-    real4 pos_i, vr_i;
+    real4 pos_i, vr_i, old_i;
     bool fluid_i;
     real rho_i, diffusion_coef, visc_coef, laminar_coef;
     real3 hydrostatic_drho;  // rho0 g / c0^2: d rho^H / d r
@@ -41,8 +47,8 @@ struct PairSums {
     real drho = 0;
 
     SPH_HD PairSums(std::uint32_t i, const ForceInputs& in_, const PhysicsParams& p_, const Kernel& k)
-        : in(in_), p(p_), kernel(k), pos_i(in_.pos[i]), vr_i(in_.velrho[i]), fluid_i(!is_boundary(vr_i)),
-          rho_i(density(vr_i)), diffusion_coef(Diffusion ? 2 * p_.delta * p_.h * p_.c0 * p_.mass : real(0)),
+        : in(in_), p(p_), kernel(k), pos_i(in_.pos[i]), vr_i(in_.velrho[i]), old_i(in_.velrho_prev[i]),
+          fluid_i(!is_boundary(vr_i)), rho_i(density(vr_i)), diffusion_coef(Diffusion ? 2 * p_.delta * p_.h * p_.c0 * p_.mass : real(0)),
           visc_coef(p_.alpha * p_.h * p_.c0), laminar_coef(4 * p_.nu * p_.mass),
           hydrostatic_drho((p_.rho0 / (p_.c0 * p_.c0)) * p_.gravity) {}
 
@@ -52,22 +58,25 @@ struct PairSums {
         const bool fluid_j = !is_boundary(vr_j);
         if (!fluid_i && !fluid_j) return;  // boundary-boundary pairs do nothing
         const real fac = kernel.grad_factor(sqrt_r(r2));
-        const real3 vij = xyz(vr_i) - xyz(vr_j);
-        const real vdotr = dot(vij, rij);
-        drho += p.mass * fac * vdotr;  // m (v_ij . r_ij) F, with grad W = r_ij F
+        drho += p.mass * fac * dot(xyz(vr_i) - xyz(vr_j), rij);  // m (v_ij . r_ij) F, with grad W = r_ij F
+        if (!fluid_i) return;
         const real rho_j = density(vr_j);
-        if (Diffusion && fluid_i && fluid_j)
-            drho += diffusion_coef * (rho_i - rho_j - dot(hydrostatic_drho, rij)) / rho_j * r2 * fac / (r2 + p.eta2);
-        if (fluid_i) {
-            real pi_ij = 0;
-            if (vdotr < 0) pi_ij = -visc_coef * vdotr / ((r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
-            const real s = -p.mass * (pos_i.w + in.pos[j].w + pi_ij) * fac;
-            acc += s * rij;
-            // A uniform runtime branch rather than a template flag: compiling the laminar term
-            // out would double the force kernels' instantiations (kernel x search x diffusion)
-            // and the CUDA compile time, and every thread takes the same side.
-            if (p.nu > 0) acc += (laminar_coef * r2 * fac / ((rho_i + rho_j) * (r2 + p.eta2))) * vij;
+        const real4 old_j = in.velrho_prev[j];
+        if (Diffusion && fluid_j) {
+            const real old_rho_j = density(old_j);
+            drho += diffusion_coef * (density(old_i) - old_rho_j - dot(hydrostatic_drho, rij)) / old_rho_j * r2 * fac /
+                    (r2 + p.eta2);
         }
+        const real3 old_vij = xyz(old_i) - xyz(old_j);
+        const real old_vdotr = dot(old_vij, rij);
+        real pi_ij = 0;
+        if (old_vdotr < 0) pi_ij = -visc_coef * old_vdotr / ((r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
+        const real s = -p.mass * (pos_i.w + in.pos[j].w + pi_ij) * fac;
+        acc += s * rij;
+        // A uniform runtime branch rather than a template flag: compiling the laminar term
+        // out would double the force kernels' instantiations (kernel x search x diffusion)
+        // and the CUDA compile time, and every thread takes the same side.
+        if (p.nu > 0) acc += (laminar_coef * r2 * fac / ((rho_i + rho_j) * (r2 + p.eta2))) * old_vij;
     }
     SPH_HD real4 result() const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
 };
