@@ -62,7 +62,11 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
             hi[k] = std::min(hi[k], phi[k] + double(scene_.params.support));
         }
     }
-    grid_ = make_grid(lo.data(), hi.data(), scene_.params.support, options_.search.cells_per_support,
+    // A Verlet list holds while particles close at most the skin, so it must list every pair
+    // within support + skin: its cells reach that far, or pairs just beyond the support in
+    // cells outside the stencil would never be listed.
+    const double cell_reach = scene_.params.support * (options_.search.verlet ? 1 + options_.search.skin : 1.0);
+    grid_ = make_grid(lo.data(), hi.data(), cell_reach, options_.search.cells_per_support,
                       scene_.periodic.data());
     check_periodic_options();
     if (double(grid_.view.nx) * grid_.view.ny * grid_.view.nz > 4.0e9)

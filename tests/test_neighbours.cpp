@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <random>
 #include <set>
 
 #include "physics/dispatch.hpp"
@@ -91,7 +93,6 @@ TEST(NeighbourSearch, CellMergingVisitsNineRangesInsteadOf27Cells) {
         EXPECT_EQ(d->count_work().ranges, (merge ? 9u : 27u) * s.size());
     }
 }
-
 }  // namespace
 }  // namespace sph
 
@@ -139,6 +140,59 @@ TEST(SearchStrategies, VerletListsRebuildOnDisplacementAndHoldEveryNeighbour) {
     EXPECT_GT(sim.neighbour_list_builds(), 1);
     EXPECT_LT(sim.neighbour_list_builds(), 100);
     EXPECT_GT(sim.neighbour_list_bytes(), 50 * sizeof(std::uint32_t) * s.size());
+}
+
+// Between rebuilds two particles may close the skin. A list built on cells of the support
+// radius would miss pairs just beyond it in cells the stencil does not reach (it did, before
+// the check: one particle's forces in this cloud came out wrong); on cells of support + skin
+// (what the Simulation makes for Verlet lists) it holds them all. Each particle
+// moves 0.45 skin after the build, then the listed forces must equal a fresh cell search's.
+TEST(SearchStrategies, VerletListsHoldPairsThatCloseTheSkin) {
+    Scene s = test::random_scene(2500, 0, 0.3, 0.02, 11u, 0.05);
+    const double skin = 0.1 * double(s.params.support);
+    std::mt19937 rng(12u);
+    std::normal_distribution<double> nd(0, 1);
+    const double dt = 1e-3, speed = 0.45 * skin / dt;
+    for (auto& v : s.velocity) {
+        double d[3] = {nd(rng), nd(rng), nd(rng)};
+        const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        v = {float(speed * d[0] / norm), float(speed * d[1] / norm), float(speed * d[2] / norm)};
+    }
+    auto forces_by_id = [](const ParticleArrays& a) {
+        std::vector<real4> f(a.size());
+        for (std::size_t k = 0; k < a.size(); ++k) f[a.id[k]] = a.force[k];
+        return f;
+    };
+    auto listed_after_move = [&](double cell_reach) {
+        const Grid g = make_grid(s.lo.data(), s.hi.data(), cell_reach, 1);
+        auto d = make_host_subdomain({s.params, g.view, s.kernel, true, {1, false}}, s.size());
+        d->upload(make_particle_arrays(s, g));
+        d->sort_by_cell();
+        d->advance(euler_step(0));
+        d->build_neighbour_list(real(skin));
+        d->advance(euler_step(real(dt)));  // forces are still zero: a straight move
+        d->compute_forces_listed();
+        ParticleArrays moved = d->download();
+        // The reference: a cell search of the moved state, sorted afresh.
+        auto fresh = make_host_subdomain({s.params, g.view, s.kernel, true, {1, false}}, s.size());
+        fresh->upload(moved);
+        fresh->sort_by_cell();
+        fresh->compute_forces();
+        return std::make_pair(forces_by_id(moved), forces_by_id(fresh->download()));
+    };
+    auto mismatches = [](const std::pair<std::vector<real4>, std::vector<real4>>& f) {
+        int bad = 0;
+        for (std::size_t i = 0; i < f.first.size(); ++i) {
+            const real4 a = f.first[i], b = f.second[i];
+            const double diff = std::abs(a.x - b.x) + std::abs(a.y - b.y) + std::abs(a.z - b.z) + std::abs(a.w - b.w);
+            const double size = std::abs(b.x) + std::abs(b.y) + std::abs(b.z) + std::abs(b.w);
+            if (diff > 1e-4 * size + 1e-6) ++bad;
+        }
+        return bad;
+    };
+    EXPECT_EQ(mismatches(listed_after_move(double(s.params.support) + skin)), 0);
+    // A support-sized stencil loses pairs, which the subdomain refuses to risk.
+    EXPECT_THROW(listed_after_move(double(s.params.support)), RunError);
 }
 
 }  // namespace

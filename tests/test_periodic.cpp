@@ -134,7 +134,8 @@ TEST(PeriodicSearch, VerletListsGiveTheCellSearchForces) {
     Scene s = periodic_box(0.29, 0.29, 5u, 1500);
     for (auto& v : s.velocity) v = {0.3f, -0.2f, 0.1f};
     s.params.nu = real(1e-3);
-    const Grid g = make_grid(s.lo.data(), s.hi.data(), s.params.support, 1, s.periodic.data());
+    // Cells of support + skin: what a Verlet list's stencil needs (both searches use them).
+    const Grid g = make_grid(s.lo.data(), s.hi.data(), 1.1 * s.params.support, 1, s.periodic.data());
     auto forces = [&](bool listed) {
         auto d = make_host_subdomain({s.params, g.view, s.kernel, true, {1, false}}, s.size());
         d->upload(make_particle_arrays(s, g));

@@ -239,6 +239,7 @@ public:
     void build_neighbour_list(real skin) override {
         use_device();
         const real reach = cfg_.params.support + skin;
+        require_stencil_reach(cfg_, reach);
         if (list_count_.size() < n_) list_count_.allocate(n_);
         for (int attempt = 0; attempt < 2; ++attempt) {
             const std::size_t need = std::size_t(list_capacity_) * n_;

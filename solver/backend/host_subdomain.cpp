@@ -2,9 +2,11 @@
 // CI has no GPU, so this is how every algorithm is tested.
 #include <algorithm>
 #include <numeric>
+#include <string>
 
 #include "backend/steady_phase_clock.hpp"
 #include "backend/subdomain.hpp"
+#include "core/error.hpp"
 #include "physics/dispatch.hpp"
 #include "physics/integration.hpp"
 
@@ -124,6 +126,7 @@ public:
     void build_neighbour_list(real skin) override {
         const ForceInputs in = inputs();
         const real reach = cfg_.params.support + skin;
+        require_stencil_reach(cfg_, reach);
         const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
         list_count_.assign(a_.size(), 0);
         std::uint32_t longest = 0;
@@ -255,6 +258,14 @@ private:
 };
 
 }  // namespace
+
+void require_stencil_reach(const SubdomainConfig& cfg, real reach) {
+    if (stencil_reaches(cfg.grid, cfg.search.cells_per_support, reach)) return;
+    const real3 cs = cfg.grid.cell_size;
+    throw RunError("Verlet lists of reach " + std::to_string(reach) + " m (support + skin) need cells of at least " +
+                   std::to_string(reach / cfg.search.cells_per_support) + " m, but the grid's are " +
+                   std::to_string(std::min({cs.x, cs.y, cs.z})) + " m: pairs beyond the stencil would be missed");
+}
 
 std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t) {
     return std::make_unique<HostSubdomain>(cfg);

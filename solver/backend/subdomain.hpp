@@ -68,8 +68,9 @@ public:
     virtual void sort_by_cell() = 0;
     // Phase forces: acceleration and density rate of every particle in the domain.
     virtual void compute_forces() = 0;
-    // Verlet lists: after a sort, store every neighbour within support + skin; the listed
-    // force loop then reuses the lists (no sort) until the Simulation decides to rebuild.
+    // Verlet lists: after a sort, store every neighbour within support + skin (the grid's
+    // cells must reach that far; RunError otherwise); the listed force loop then reuses the
+    // lists (no sort) until the Simulation decides to rebuild.
     virtual void build_neighbour_list(real skin) = 0;
     virtual void compute_forces_listed() = 0;
     virtual std::size_t neighbour_list_bytes() const = 0;
@@ -105,6 +106,9 @@ public:
     virtual std::size_t bytes_allocated() const = 0;
     virtual PhaseClock& clock() = 0;
 };
+
+// Throws RunError when the grid's cells are too small for lists of this reach.
+void require_stencil_reach(const SubdomainConfig& cfg, real reach);
 
 std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t capacity);
 // Throws RunError naming the need and the free memory when the scene does not fit.

@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 // The uniform cell grid of a subdomain. Cells are numbered z fastest, then y, then x (the
 // paper's order), so a run of z-neighbouring cells is one contiguous particle range and an
 // X slab of cell slices is one contiguous range of the sorted particle arrays.
@@ -61,5 +62,12 @@ struct Grid {
 // cells no smaller than support / n (at least one), so the cell size there may grow slightly.
 Grid make_grid(const double lo[3], const double hi[3], double support, int cells_per_support,
                const bool periodic[3] = nullptr);
+
+// Whether a stencil of n cells each side finds every pair closer than `reach`: what a
+// Verlet list built on this grid needs (reach = support + skin).
+inline bool stencil_reaches(const GridView& g, int n, double reach) {
+    const double shortest = std::min({double(g.cell_size.x), double(g.cell_size.y), double(g.cell_size.z)});
+    return shortest * n >= reach * (1 - 1e-6);
+}
 
 }  // namespace sph
