@@ -212,7 +212,8 @@ const StepRecord& Simulation::step() {
         rebalance(n);
     }
     const bool verlet = options_.search.verlet;
-    if (!verlet || verlet_list_expired(dt)) {
+    // The forces are taken where the previous step's update (over record_.dt) left particles.
+    if (!verlet || verlet_list_expired(record_.dt)) {
         for (int d = 0; d < count; ++d) {
             ScopedPhase ph(clock(d), Phase::neighbour_list, n, d);
             subdomains_[d]->sort_by_cell();
@@ -310,7 +311,8 @@ void Simulation::rebalance(long step) {
 real Simulation::verlet_skin() const { return real(options_.search.skin * scene_.params.support); }
 
 // The lists hold while no two particles can have closed the skin: each has moved at most
-// sum of dt |v| since the build, bounded from the step statistics (no per-particle state).
+// sum of dt |v| since the build, bounded from the step statistics (no per-particle state;
+// the half-skin threshold leaves room for the statistics being one step newer than the move).
 bool Simulation::verlet_list_expired(double dt) {
     const SearchOptions& s = options_.search;
     if (s.rebuild_every > 0) return steps_since_build_ >= s.rebuild_every;

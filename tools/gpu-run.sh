@@ -4,7 +4,8 @@
 #
 #   tools/gpu-run.sh pack            on the build machine: build into build-gpu/ and gather the
 #                                    binaries, the shared libraries they need and the meshes
-#                                    into .carry/ (ignored by git; copy it to the GPU machine)
+#                                    into .carry/ (ignored by git; copy it to the GPU machine);
+#                                    F64=1 adds the float64 sphbench (build-gpu-f64/)
 #   tools/gpu-run.sh exec CMD ...    on the GPU machine, in the repository root: run CMD with
 #                                    .carry/bin on PATH, its libraries and meshes found
 #
@@ -25,6 +26,13 @@ pack)
   cp build-gpu/harness/sphbench build-gpu/tests/sph_tests "$CARRY/bin/"
   [ -x build-gpu/bench/sph_bench ] && cp build-gpu/bench/sph_bench "$CARRY/bin/"
   [ -x build-gpu/bench/sph_skip_bench ] && cp build-gpu/bench/sph_skip_bench "$CARRY/bin/"
+  # F64=1: also the float64 sphbench (the accuracy sweep's precision = "float64" runs).
+  if [ "${F64:-0}" = 1 ]; then
+    cmake -S . -B build-gpu-f64 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CUDA_ARCHITECTURES=90 -DSPH_DOUBLE=ON \
+      -DSPH_BUILD_TESTS=OFF >/dev/null
+    cmake --build build-gpu-f64 -j"${JOBS:-2}" --target sphbench
+    cp build-gpu-f64/harness/sphbench "$CARRY/bin/sphbench-f64"
+  fi
   # Every shared library but the C runtime and the C++ runtime (the GPU machine's are newer).
   ldd "$CARRY"/bin/* | awk '$3 ~ /^\// {print $3}' | sort -u |
     grep -v -E '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux[^/]*|libstdc\+\+|libgcc_s)\.so' |

@@ -3,6 +3,8 @@
 # GPU machine (through tools/gpu-run.sh exec). Writes everything under $1 (default results/gpu).
 #   single: benchmarks against DualSPHysics, the CUDA-vs-host test, fig4, fig3, cll-vs-vl
 #   multi:  the multi-gpu experiment (figures 5 to 9) and fig10 (transports); needs 2 GPUs
+#   accuracy: the CUDA tests, the accuracy sweep (needs sphbench-f64: F64=1 gpu-run.sh pack)
+#           and the stability studies (issue 6)
 set -uo pipefail
 out=${2:-results/gpu}
 mkdir -p "$out"
@@ -26,6 +28,19 @@ single)
   done
   [ "${SKIP_FIGURES:-0}" = 1 ] && exit 0
   for spec in fig4 cll-vs-vl fig3; do sphbench run experiments/$spec.toml --backend cuda --out "$out" --force --quiet; done
+  ;;
+accuracy)
+  nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
+  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*' >"$out/cuda_tests.log" 2>&1
+  ok=$?
+  grep -E 'cuda |OK|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_vs_host.txt"
+  [ $ok -eq 0 ] || { echo "reference-runs: the CUDA tests failed; not running the studies"; exit 1; }
+  sphbench run experiments/accuracy.toml --backend cuda --float64-binary "$(command -v sphbench-f64)" \
+    --out "$out" --force --quiet
+  for s in ${STUDIES:-stability-cfl stability-still-water stability-impact stability-armadillo}; do
+    echo "== $s"
+    sphbench stability experiments/$s.toml --backend cuda --out "$out/stability" --force --quiet
+  done
   ;;
 multi)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
