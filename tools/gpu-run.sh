@@ -33,6 +33,7 @@ pack)
     cmake --build build-gpu-f64 -j"${JOBS:-2}" --target sphbench
     cp build-gpu-f64/harness/sphbench "$CARRY/bin/sphbench-f64"
   fi
+  strip --strip-unneeded "$CARRY"/bin/*  # the run tool carries at most 64 MiB with the tree
   # Every shared library but the C runtime and the C++ runtime (the GPU machine's are newer).
   ldd "$CARRY"/bin/* | awk '$3 ~ /^\// {print $3}' | sort -u |
     grep -v -E '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux[^/]*|libstdc\+\+|libgcc_s)\.so' |
