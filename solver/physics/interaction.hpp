@@ -61,7 +61,9 @@ struct PairSums {
         drho += p.mass * fac * dot(xyz(vr_i) - xyz(vr_j), rij);  // m (v_ij . r_ij) F, with grad W = r_ij F
         if (!fluid_i) return;
         const real rho_j = density(vr_j);
-        const real4 old_j = in.velrho_prev[j];
+        // Boundary particles never change velocity, and their old density is not read: skip
+        // the load (walls are half of some scenes' neighbours).
+        const real4 old_j = fluid_j ? in.velrho_prev[j] : vr_j;
         if (Diffusion && fluid_j) {
             const real old_rho_j = density(old_j);
             drho += diffusion_coef * (density(old_i) - old_rho_j - dot(hydrostatic_drho, rij)) / old_rho_j * r2 * fac /
