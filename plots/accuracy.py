@@ -54,7 +54,7 @@ def table(runs):
             continue
         sphplot.require_columns(sub, ["wall_s", err_col])
         time = sub["wall_s"].astype(float) - sphplot.column(sub, "validation_s", 0.0).astype(float)
-        blew = sphplot.column(sub, "blow_up", "").fillna("").astype(str).str.strip() != ""
+        blew = sphplot.column(sub, "blow_up", "").astype(object).fillna("").astype(str).str.strip() != ""
         err = sub[err_col].astype(float).where(~blew)  # what it measured before blowing up is no result
         front = pareto_mask(time, err)
         sec = sub[sec_col].astype(float) if sec_col and sec_col in sub.columns else [np.nan] * len(sub)
