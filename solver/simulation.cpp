@@ -193,8 +193,8 @@ const StepRecord& Simulation::step() {
     const double dt = next_dt();
     const long n = record_.step + 1;
     // The first step, and every euler_every-th after it, is an Euler step (integration.hpp).
-    const TimeStep rule = (n - 1) % options_.euler_every == 0 ? euler_step(real(dt))
-                                                               : verlet_step(real(dt), real(record_.dt));
+    TimeStep rule = (n - 1) % options_.euler_every == 0 ? euler_step(real(dt)) : verlet_step(real(dt), real(record_.dt));
+    rule.shift_speed = real(std::sqrt(double(record_.stats.max_speed2)));
     const int count = int(subdomains_.size());
     record_.slices_moved = 0;
     record_.exchange = {};
@@ -318,7 +318,8 @@ bool Simulation::verlet_list_expired(double dt) {
     if (s.rebuild_every > 0) return steps_since_build_ >= s.rebuild_every;
     const double vmax = std::sqrt(double(record_.stats.max_speed2));
     const double amax = std::sqrt(double(record_.stats.max_accel2));
-    moved_since_build_ += dt * (vmax + 0.5 * dt * amax);
+    const double shifting = scene_.params.shift > 0 ? 2 : 1;  // a shift moves a particle up to dt |v|max more
+    moved_since_build_ += dt * (shifting * vmax + 0.5 * dt * amax);
     return moved_since_build_ > 0.5 * verlet_skin();
 }
 

@@ -43,7 +43,7 @@ std::size_t longest_list_temp_bytes(std::uint32_t n);
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
                            ActiveRange range, std::uint32_t n, cudaStream_t s);
 void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
-             const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s);
+             const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s);
 // Bytes of temporary storage reduce_stats needs for n particles.
 std::size_t reduce_stats_temp_bytes(std::uint32_t n);
 void reduce_stats(const real4* velrho, const real4* velrho_prev, const real4* force, const std::uint32_t* id,

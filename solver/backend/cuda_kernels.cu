@@ -79,10 +79,10 @@ __global__ void __launch_bounds__(block_size) forces_listed_kernel(ForceInputs i
 
 template <bool IntegrateBoundary>
 __global__ void advance_kernel(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
-                               TimeStep step, GridView g, PhysicsParams p, ActiveRange range) {
+                               const real4* grad_c, TimeStep step, GridView g, PhysicsParams p, ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= *range.end) return;
-    particle_advance<IntegrateBoundary>(i, pos, velrho, velrho_prev, cell, force, step, g, p);
+    particle_advance<IntegrateBoundary>(i, pos, velrho, velrho_prev, cell, force, grad_c, step, g, p);
 }
 
 template <class Search>
@@ -211,14 +211,15 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
 }
 
 void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
-             const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s) {
+             const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n,
+             cudaStream_t s) {
     if (n == 0) return;
     if (cfg.integrate_boundary)
-        advance_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, step,
+        advance_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, grad_c, step,
                                                                    cfg.grid, cfg.params, range);
     else
-        advance_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, step,
-                                                                    cfg.grid, cfg.params, range);
+        advance_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, grad_c,
+                                                                    step, cfg.grid, cfg.params, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 

@@ -46,6 +46,7 @@ public:
         }
         for (auto* b : {&pos_, &pos_alt_, &velrho_, &velrho_alt_, &velrho_prev_, &velrho_prev_alt_}) b->allocate(capacity);
         force_.allocate(capacity);
+        if (cfg.params.shift > 0) grad_c_.allocate(capacity);
         cell_.allocate(capacity);
         id_.allocate(capacity);
         keys_.allocate(capacity);
@@ -264,8 +265,8 @@ public:
 
     void advance(const TimeStep& step) override {
         use_device();
-        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), force_.data(), step, cfg_,
-                     active_range(), n_, stream_);
+        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), force_.data(),
+                     grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_, active_range(), n_, stream_);
     }
 
     StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) override {
@@ -304,8 +305,9 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
-    ForceInputs inputs() const {
-        return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
+    ForceInputs inputs() {
+        return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), cfg_.grid,
+                grad_c_.size() ? grad_c_.data() : nullptr};
     }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     // Subdomains of one run live on different GPUs and share the host thread: every entry
@@ -324,6 +326,7 @@ private:
     cudaStream_t stream_ = nullptr;
     CudaPhaseClock clock_;
     DeviceBuffer<real4> pos_, pos_alt_, velrho_, velrho_alt_, velrho_prev_, velrho_prev_alt_, force_;
+    DeviceBuffer<real4> grad_c_;  // shifting only: written by the force loop, read by advance
     DeviceBuffer<std::uint32_t> cell_, id_, order_, order_alt_, cell_start_;
     DeviceBuffer<std::uint64_t> keys_, keys_alt_;
     DeviceBuffer<unsigned char> temp_;

@@ -109,7 +109,7 @@ public:
     }
 
     void compute_forces() override {
-        const ForceInputs in = inputs();
+        const ForceInputs in = inputs_with_gradient();
         const PhysicsParams p = cfg_.params;
         real4* force = a_.force.data();
         const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
@@ -149,7 +149,7 @@ public:
     }
 
     void compute_forces_listed() override {
-        const ForceInputs in = inputs();
+        const ForceInputs in = inputs_with_gradient();
         const NeighbourList list{list_index_.data(), list_count_.data(), std::uint32_t(a_.size())};
         const PhysicsParams p = cfg_.params;
         real4* force = a_.force.data();
@@ -221,7 +221,8 @@ private:
 #pragma omp parallel for schedule(static)
         for (std::ptrdiff_t i = lo; i < n; ++i)
             particle_advance<IntegrateBoundary>(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(),
-                                                a_.cell.data(), a_.force.data(), step, cfg_.grid, cfg_.params);
+                                                a_.cell.data(), a_.force.data(), gradient(), step, cfg_.grid,
+                                                cfg_.params);
     }
     // After keep_only_cells the owned particles, still in cell order, start at 0.
     void update_owned_range_after_keep(std::size_t kept) {
@@ -236,6 +237,18 @@ private:
     ForceInputs inputs() const {
         return {a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(), a_.cell.data(), cell_start_.data(), cfg_.grid};
     }
+    // The force loops also write the shifting gradient when shifting is on.
+    ForceInputs inputs_with_gradient() {
+        ForceInputs in = inputs();
+        if (cfg_.params.shift > 0) {
+            grad_c_.resize(a_.size());
+            in.concentration_gradient = grad_c_.data();
+        }
+        return in;
+    }
+    const real4* gradient() const {
+        return cfg_.params.shift > 0 && grad_c_.size() >= a_.size() ? grad_c_.data() : nullptr;
+    }
     template <class T>
     void gather(std::vector<T>& v) {
         scratch_.resize(v.size() * sizeof(T));
@@ -249,6 +262,7 @@ private:
     SubdomainConfig cfg_;
     ParticleArrays a_, received_;
     std::vector<std::uint32_t> cell_start_, order_, list_index_, list_count_;
+    std::vector<real4> grad_c_;  // shifting only: per particle, from the last force loop
     std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;
     std::vector<unsigned char> scratch_;

@@ -14,6 +14,11 @@
 // index wraps and its offset inside the cell is kept.
 // Boundary particles only integrate density (dynamic boundary), floored at rho0 as in
 // DualSPHysics. Particles outside the domain are frozen and take no part.
+// Particle shifting (p.shift = A > 0, flows without a free surface) moves a fluid particle
+// further by dr = -A h U dt grad C with U the largest fluid speed (Sun et al. 2017 scale it
+// by the flow's Mach number the same way), capped at U dt: a step then moves a particle at
+// most 2 U dt, which the Verlet-list expiry allows for. The global U, not the particle's own
+// speed, so that particles near stagnation points, where the lattice is stretched most, move.
 #include "core/equation_of_state.hpp"
 #include "core/particle.hpp"
 #include "neighbours/grid.hpp"
@@ -26,6 +31,7 @@ struct TimeStep {
     real dt = 0;
     real span = 0;
     bool euler = true;
+    real shift_speed = 0;  // particle shifting: the largest fluid speed (p.shift > 0 only)
 };
 inline TimeStep euler_step(real dt) { return {dt, dt, true}; }
 inline TimeStep verlet_step(real dt, real previous_dt) { return {dt, dt + previous_dt, false}; }
@@ -56,9 +62,21 @@ SPH_HD real4 stepped_velrho(const real4& now, const real4& before, const real4& 
 
 // IntegrateBoundary = true moves boundary particles like fluid ones under their zero
 // acceleration: the same result at more cost, kept only so that skip_bench can measure it.
+// The shift of fluid particle i (zero when shifting is off: grad_c is null).
+SPH_HD real3 shifting_move(const real4& velrho, const real4* grad_c, std::uint32_t i, const TimeStep& s,
+                           const PhysicsParams& p) {
+    if (!grad_c || is_boundary(velrho)) return make3(0, 0, 0);
+    const real reach = s.dt * s.shift_speed;
+    real3 dr = (-p.shift * p.h * reach) * xyz(grad_c[i]);
+    const real len = sqrt_r(dot(dr, dr));
+    if (len > reach) dr = (reach / len) * dr;
+    return dr;
+}
+
 template <bool IntegrateBoundary = false>
 SPH_HD void particle_advance(std::uint32_t i, real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell,
-                             const real4* force, const TimeStep& s, const GridView& g, const PhysicsParams& p) {
+                             const real4* force, const real4* grad_c, const TimeStep& s, const GridView& g,
+                             const PhysicsParams& p) {
     const std::uint32_t c = cell[i];
     if (c >= g.out_of_domain()) return;
     const real4 now = velrho[i];
@@ -67,9 +85,10 @@ SPH_HD void particle_advance(std::uint32_t i, real4* pos, real4* velrho, real4* 
     real4 ps = pos[i];
     if (!is_boundary(now) || IntegrateBoundary) {
         const real half_dt2 = real(0.5) * s.dt * s.dt;
-        ps.x += s.dt * now.x + half_dt2 * f.x;
-        ps.y += s.dt * now.y + half_dt2 * f.y;
-        ps.z += s.dt * now.z + half_dt2 * f.z;
+        const real3 shift = shifting_move(now, grad_c, i, s, p);
+        ps.x += s.dt * now.x + half_dt2 * f.x + shift.x;
+        ps.y += s.dt * now.y + half_dt2 * f.y + shift.y;
+        ps.z += s.dt * now.z + half_dt2 * f.z + shift.z;
         int3v cc = g.decode(c);
         wrap_into_cell(ps.x, cc.x, g.cell_size.x);
         wrap_into_cell(ps.y, cc.y, g.cell_size.y);

@@ -16,6 +16,9 @@
 // from step n-1, which damps. Centred on step n, a leapfrog step grows its computational
 // (odd-even) mode under any damping (Durran, Numerical Methods for Fluid Dynamics, 2.4.2):
 // a random particle cloud blew up within 30 steps that way.
+// With particle shifting on (p.shift > 0, flows without a free surface) the loop also sums the
+// concentration gradient grad C_i = sum_j m / rho_j grad W_ij, which the update turns into a
+// small move down the gradient (integration.hpp).
 #include "core/params.hpp"
 #include "core/particle.hpp"
 #include "neighbours/cell_search.hpp"
@@ -30,6 +33,7 @@ struct ForceInputs {
     const std::uint32_t* cell;
     const std::uint32_t* cell_start;
     GridView grid;
+    real4* concentration_gradient = nullptr;  // written (xyz) when shifting is on, else null
 };
 
 // The sums over one particle's neighbours. add() takes one candidate j and the separation
@@ -43,6 +47,7 @@ struct PairSums {
     bool fluid_i;
     real rho_i, diffusion_coef, visc_coef, laminar_coef;
     real3 hydrostatic_drho;  // rho0 g / c0^2: d rho^H / d r
+    real3 grad_c{0, 0, 0};   // concentration gradient (shifting only)
     real3 acc{0, 0, 0};
     real drho = 0;
 
@@ -61,6 +66,7 @@ struct PairSums {
         drho += p.mass * fac * dot(xyz(vr_i) - xyz(vr_j), rij);  // m (v_ij . r_ij) F, with grad W = r_ij F
         if (!fluid_i) return;
         const real rho_j = density(vr_j);
+        if (p.shift > 0) grad_c += (p.mass / rho_j * fac) * rij;
         // Boundary particles never change velocity, and their old density is not read: skip
         // the load (walls are half of some scenes' neighbours).
         const real4 old_j = fluid_j ? in.velrho_prev[j] : vr_j;
@@ -80,7 +86,11 @@ struct PairSums {
         // and the CUDA compile time, and every thread takes the same side.
         if (p.nu > 0) acc += (laminar_coef * r2 * fac / ((rho_i + rho_j) * (r2 + p.eta2))) * old_vij;
     }
-    SPH_HD real4 result() const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
+    // (acceleration, d rho / dt); particle i's concentration gradient goes to its slot.
+    SPH_HD real4 result(std::uint32_t i) const {
+        if (in.concentration_gradient) in.concentration_gradient[i] = make4(grad_c, 0);
+        return make4(fluid_i ? acc + p.gravity : acc, drho);
+    }
 };
 
 // x_i - x_j from cell-relative offsets: (cell_i - cell_j) * cs + off_i - off_j, exact in the
@@ -123,7 +133,7 @@ SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const Physic
                       const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
                       sums.add(j, rij, dot(rij, rij));
                   });
-    return sums.result();
+    return sums.result(i);
 }
 
 // A stored neighbour list (Verlet list): column k of particle i at list[k * stride + i], so
@@ -148,7 +158,7 @@ SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const
         const real3 rij = listed_separation(sums.pos_i, in.pos[j], ci, cj, in.grid);
         sums.add(j, rij, dot(rij, rij));
     }
-    return sums.result();
+    return sums.result(i);
 }
 
 // Builds particle i's list: every candidate within support + skin, in visiting order.
