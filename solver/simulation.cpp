@@ -44,6 +44,9 @@ ParticleArrays make_particle_arrays(const Scene& s, const Grid& g) {
 
 Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene_(scene), options_(options) {
     if (options_.cfl <= 0) options_.cfl = scene_.cfl;
+    if (scene_.params.shift > 0 && options_.search.verlet)
+        throw InputError("scene '" + scene_.name + "' shifts particles (option 'shifting'), which needs the cell " +
+                         "search; drop --verlet or set shifting=0");
     if (options_.euler_every < 1)
         throw InputError("euler_every must be at least 1 (every k-th step an Euler step), got " +
                          std::to_string(options_.euler_every));

@@ -32,6 +32,9 @@ void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, 
                  std::uint32_t out_of_domain, cudaStream_t s);
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s);
+// Particle shifting's concentration gradient (cell search only).
+void concentration_gradient(const SubdomainConfig& cfg, const ForceInputs& in, real4* grad_c, ActiveRange range,
+                            std::uint32_t n, cudaStream_t s);
 // Writes each particle's list and count; returns nothing (the caller reduces the counts).
 void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
                            std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,

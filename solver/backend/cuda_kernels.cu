@@ -54,6 +54,15 @@ __global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, Phys
     force[i] = particle_force<Kernel, Search, Diffusion>(i, in, p, kernel);
 }
 
+template <class Kernel, class Search>
+__global__ void __launch_bounds__(block_size) concentration_gradient_kernel(ForceInputs in, PhysicsParams p,
+                                                                            real4* grad_c, ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *range.end) return;
+    const Kernel kernel(p.h);
+    grad_c[i] = particle_concentration_gradient<Kernel, Search>(i, in, p, kernel);
+}
+
 template <class Search>
 __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in, real reach2, std::uint32_t* index,
                                                                  std::uint32_t* count, std::uint32_t stride,
@@ -166,6 +175,17 @@ void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* fo
         using Search = typename decltype(srch)::type;
         forces_kernel<Kernel, Search, decltype(diffusion)::value>
             <<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, range);
+    });
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void concentration_gradient(const SubdomainConfig& cfg, const ForceInputs& in, real4* grad_c, ActiveRange range,
+                            std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    dispatch_physics(cfg.kernel, false, cfg.search, [&](auto k, auto srch, auto) {
+        using Kernel = typename decltype(k)::type;
+        using Search = typename decltype(srch)::type;
+        concentration_gradient_kernel<Kernel, Search><<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, grad_c, range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

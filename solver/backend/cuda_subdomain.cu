@@ -235,6 +235,8 @@ public:
 
     void compute_forces() override {
         use_device();
+        if (cfg_.params.shift > 0)
+            gpu::concentration_gradient(cfg_, inputs(), grad_c_.data(), active_range(), n_, stream_);
         gpu::compute_forces(cfg_, inputs(), force_.data(), active_range(), n_, stream_);
     }
     void build_neighbour_list(real skin) override {
@@ -305,9 +307,8 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
-    ForceInputs inputs() {
-        return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), cfg_.grid,
-                grad_c_.size() ? grad_c_.data() : nullptr};
+    ForceInputs inputs() const {
+        return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
     }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     // Subdomains of one run live on different GPUs and share the host thread: every entry

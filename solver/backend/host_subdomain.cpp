@@ -109,10 +109,11 @@ public:
     }
 
     void compute_forces() override {
-        const ForceInputs in = inputs_with_gradient();
+        const ForceInputs in = inputs();
         const PhysicsParams p = cfg_.params;
         real4* force = a_.force.data();
         const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
+        if (p.shift > 0) concentration_gradient_loop(in);
         dispatch_physics(cfg_.kernel, cfg_.diffusion, cfg_.search, [&](auto k, auto s, auto diffusion) {
             using Kernel = typename decltype(k)::type;
             using Search = typename decltype(s)::type;
@@ -149,7 +150,7 @@ public:
     }
 
     void compute_forces_listed() override {
-        const ForceInputs in = inputs_with_gradient();
+        const ForceInputs in = inputs();
         const NeighbourList list{list_index_.data(), list_count_.data(), std::uint32_t(a_.size())};
         const PhysicsParams p = cfg_.params;
         real4* force = a_.force.data();
@@ -237,14 +238,19 @@ private:
     ForceInputs inputs() const {
         return {a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(), a_.cell.data(), cell_start_.data(), cfg_.grid};
     }
-    // The force loops also write the shifting gradient when shifting is on.
-    ForceInputs inputs_with_gradient() {
-        ForceInputs in = inputs();
-        if (cfg_.params.shift > 0) {
-            grad_c_.resize(a_.size());
-            in.concentration_gradient = grad_c_.data();
-        }
-        return in;
+    // Shifting only (the Simulation refuses it with Verlet lists, whose cells go stale).
+    void concentration_gradient_loop(const ForceInputs& in) {
+        grad_c_.resize(a_.size());
+        const PhysicsParams p = cfg_.params;
+        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
+        dispatch_physics(cfg_.kernel, false, cfg_.search, [&](auto k, auto s, auto) {
+            using Kernel = typename decltype(k)::type;
+            using Search = typename decltype(s)::type;
+            const Kernel kernel(p.h);
+#pragma omp parallel for schedule(static)
+            for (std::ptrdiff_t i = lo; i < n; ++i)
+                grad_c_[i] = particle_concentration_gradient<Kernel, Search>(std::uint32_t(i), in, p, kernel);
+        });
     }
     const real4* gradient() const {
         return cfg_.params.shift > 0 && grad_c_.size() >= a_.size() ? grad_c_.data() : nullptr;
