@@ -34,9 +34,8 @@ Prepared& prepared(const SearchOptions& s) {
     const long long particles = env ? std::atoll(env) : (gpu ? 1000000 : 20000);
     Prepared p;
     p.scene = make_scene("dsph-dambreak", {{"particles", std::to_string(particles)}});
-    // Verlet lists need cells of support + skin (as the Simulation makes them).
-    const double reach = double(p.scene.params.support) * (s.verlet ? 1 + s.skin : 1.0);
-    const Grid g = make_grid(p.scene.lo.data(), p.scene.hi.data(), reach, s.cells_per_support);
+    const Grid g = make_grid(p.scene.lo.data(), p.scene.hi.data(), search_reach(p.scene.params.support, s),
+                             s.cells_per_support);
     const SubdomainConfig cfg{p.scene.params, g.view, p.scene.kernel, true, s};
     p.sub = gpu ? make_cuda_subdomain(cfg, p.scene.size(), 0) : make_host_subdomain(cfg, p.scene.size());
     p.sub->upload(make_particle_arrays(p.scene, g));

@@ -65,11 +65,8 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
             hi[k] = std::min(hi[k], phi[k] + double(scene_.params.support));
         }
     }
-    // A Verlet list holds while particles close at most the skin, so it must list every pair
-    // within support + skin: its cells reach that far, or pairs just beyond the support in
-    // cells outside the stencil would never be listed.
-    const double cell_reach = scene_.params.support * (options_.search.verlet ? 1 + options_.search.skin : 1.0);
-    grid_ = make_grid(lo.data(), hi.data(), cell_reach, options_.search.cells_per_support,
+    grid_ = make_grid(lo.data(), hi.data(), search_reach(scene_.params.support, options_.search),
+                      options_.search.cells_per_support,
                       scene_.periodic.data());
     check_periodic_options();
     if (double(grid_.view.nx) * grid_.view.ny * grid_.view.nz > 4.0e9)
@@ -321,8 +318,7 @@ bool Simulation::verlet_list_expired(double dt) {
     if (s.rebuild_every > 0) return steps_since_build_ >= s.rebuild_every;
     const double vmax = std::sqrt(double(record_.stats.max_speed2));
     const double amax = std::sqrt(double(record_.stats.max_accel2));
-    const double shifting = scene_.params.shift > 0 ? 2 : 1;  // a shift moves a particle up to dt |v|max more
-    moved_since_build_ += dt * (shifting * vmax + 0.5 * dt * amax);
+    moved_since_build_ += dt * (vmax + 0.5 * dt * amax);
     return moved_since_build_ > 0.5 * verlet_skin();
 }
 

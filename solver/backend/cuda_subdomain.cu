@@ -145,8 +145,7 @@ public:
             SPH_CUDA_CHECK(cudaMemcpyAsync(id_spare + kept, id_.data() + out_lo, out_n * 4, cudaMemcpyDeviceToDevice, stream_));
         }
         n_ = kept + out_n;
-        // Until the next sort, the kept cells' particles are [0, kept): the active range of
-        // kernels launched before that sort (the next advance, should one come before the sort) reads these.
+        // Until the next sort, the kept cells' particles are [0, kept): the owned range says so.
         const std::uint32_t bounds[2] = {0, kept};
         SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + begin, &bounds[0], 4, cudaMemcpyHostToDevice, stream_));
         SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + end, &bounds[1], 4, cudaMemcpyHostToDevice, stream_));
@@ -327,7 +326,7 @@ private:
     cudaStream_t stream_ = nullptr;
     CudaPhaseClock clock_;
     DeviceBuffer<real4> pos_, pos_alt_, velrho_, velrho_alt_, velrho_prev_, velrho_prev_alt_, force_;
-    DeviceBuffer<real4> grad_c_;  // shifting only: written by the force loop, read by advance
+    DeviceBuffer<real4> grad_c_;  // shifting only: written by compute_forces' gradient pass, read by advance
     DeviceBuffer<std::uint32_t> cell_, id_, order_, order_alt_, cell_start_;
     DeviceBuffer<std::uint64_t> keys_, keys_alt_;
     DeviceBuffer<unsigned char> temp_;

@@ -268,7 +268,7 @@ private:
     SubdomainConfig cfg_;
     ParticleArrays a_, received_;
     std::vector<std::uint32_t> cell_start_, order_, list_index_, list_count_;
-    std::vector<real4> grad_c_;  // shifting only: per particle, from the last force loop
+    std::vector<real4> grad_c_;  // shifting only: per particle, from compute_forces' gradient pass
     std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;
     std::vector<unsigned char> scratch_;

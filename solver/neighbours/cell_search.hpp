@@ -120,4 +120,11 @@ struct SearchOptions {
     int rebuild_every = 0;      // > 0: rebuild every k steps; 0: when particles may have moved skin / 2
 };
 
+// The distance the grid's cells must cover: the support, or with Verlet lists support + skin,
+// since a list holds while particles close at most the skin (pairs just beyond the support in
+// cells outside the stencil would otherwise never be listed).
+inline double search_reach(double support, const SearchOptions& s) {
+    return support * (s.verlet ? 1 + s.skin : 1.0);
+}
+
 }  // namespace sph

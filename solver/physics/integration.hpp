@@ -16,17 +16,17 @@
 // DualSPHysics. Particles outside the domain are frozen and take no part.
 // Particle shifting (p.shift = A > 0, flows without a free surface) moves a fluid particle
 // further by dr = -A h U dt grad C with U the largest fluid speed (Sun et al. 2017 scale it
-// by the flow's Mach number the same way), capped at U dt: a step then moves a particle at
-// most 2 U dt, which the Verlet-list expiry allows for. The global U, not the particle's own
-// speed, so that particles near stagnation points, where the lattice is stretched most, move.
+// by the flow's Mach number the same way), capped at U dt. The global U, not the particle's
+// own speed, so that particles near stagnation points, where the lattice is stretched most,
+// move. (The Simulation refuses shifting with Verlet lists, whose expiry does not count it.)
 #include "core/equation_of_state.hpp"
 #include "core/particle.hpp"
 #include "neighbours/grid.hpp"
 
 namespace sph {
 
-// One step's rule: dt moves positions; velocity and density move from the previous step's
-// state over `span` = dt^{n-1} + dt^n, or, on an Euler step, from the current one over dt.
+// One step's rule: dt moves positions; velocity and density move over `span`, from the
+// previous step's state (span = dt^{n-1} + dt^n) or, on an Euler step, the current one (dt).
 struct TimeStep {
     real dt = 0;
     real span = 0;
@@ -52,7 +52,7 @@ template <bool Moving>
 SPH_HD real4 stepped_velrho(const real4& now, const real4& before, const real4& f, const TimeStep& s,
                             const PhysicsParams& p) {
     const real4& base = s.euler ? now : before;
-    const real k = s.euler ? s.dt : s.span;
+    const real k = s.span;
     const bool boundary = is_boundary(now);
     real rho = density(base) + k * f.w;
     if (boundary && rho < p.rho0) rho = p.rho0;
@@ -60,8 +60,6 @@ SPH_HD real4 stepped_velrho(const real4& now, const real4& before, const real4& 
     return real4{base.x + k * f.x, base.y + k * f.y, base.z + k * f.z, boundary ? -rho : rho};
 }
 
-// IntegrateBoundary = true moves boundary particles like fluid ones under their zero
-// acceleration: the same result at more cost, kept only so that skip_bench can measure it.
 // The shift of fluid particle i (zero when shifting is off: grad_c is null).
 SPH_HD real3 shifting_move(const real4& velrho, const real4* grad_c, std::uint32_t i, const TimeStep& s,
                            const PhysicsParams& p) {
@@ -73,6 +71,8 @@ SPH_HD real3 shifting_move(const real4& velrho, const real4* grad_c, std::uint32
     return dr;
 }
 
+// IntegrateBoundary = true moves boundary particles like fluid ones under their zero
+// acceleration: the same result at more cost, kept only so that skip_bench can measure it.
 template <bool IntegrateBoundary = false>
 SPH_HD void particle_advance(std::uint32_t i, real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell,
                              const real4* force, const real4* grad_c, const TimeStep& s, const GridView& g,
