@@ -145,10 +145,10 @@ public:
             SPH_CUDA_CHECK(cudaMemcpyAsync(id_spare + kept, id_.data() + out_lo, out_n * 4, cudaMemcpyDeviceToDevice, stream_));
         }
         n_ = kept + out_n;
-        // Until the next sort, the kept cells' particles are [0, kept): the owned range says so.
-        const std::uint32_t bounds[2] = {0, kept};
-        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + begin, &bounds[0], 4, cudaMemcpyHostToDevice, stream_));
-        SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + end, &bounds[1], 4, cudaMemcpyHostToDevice, stream_));
+        // cell_start keeps the last sort's values until the next sort, as on the host: the
+        // balancer reads its per-slice counts in between, and no kernel runs there. (Writing
+        // [0, kept) at begin and end, as this did for the kick-drift-kick scheme's kick, made
+        // the first and last slices' counts wrong by the dropped ghosts.)
         if (n_) {
             SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data(), cell_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
             SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data(), id_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
