@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <set>
 
@@ -23,11 +24,25 @@ double wendland_grad_factor(double r, double h) {
 // The pressure and continuity terms read the current state, the dissipative ones (artificial
 // viscosity, density diffusion with its hydrostatic correction) the previous step's: the two
 // are drawn independently here, so a term reading the wrong one shows.
-TEST(Forces, MatchABruteForceFloat64Reference) {
+// Run on the host (the simple loop) and on the GPU with two searches (the gathered force
+// loop of cuda_kernels.cu, with its approximate division and square root), skipped without
+// a GPU. The printed errors are the figures bench/FORCE_LOOP_NOTES.md reports.
+struct ForceCase {
+    BackendKind backend;
+    int n;
+    bool merge;
+};
+class Forces : public ::testing::TestWithParam<ForceCase> {};
+
+TEST_P(Forces, MatchABruteForceFloat64Reference) {
+    const ForceCase fc = GetParam();
+    if (fc.backend == BackendKind::cuda && !cuda_backend_available())
+        GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
     Scene s = test::random_scene(1200, 300, 0.25, 0.02, 42u, 0.0, 0.5);
     s.params.gravity = {0, real(-3), real(-9.81)};
-    const Grid g = make_grid(s.lo.data(), s.hi.data(), s.params.support, 1);
-    auto d = make_host_subdomain({s.params, g.view, s.kernel, true, {1, false}}, s.size());
+    const Grid g = make_grid(s.lo.data(), s.hi.data(), s.params.support, fc.n);
+    const SubdomainConfig cfg{s.params, g.view, s.kernel, true, {fc.n, fc.merge}};
+    auto d = fc.backend == BackendKind::cuda ? make_cuda_subdomain(cfg, s.size(), 0) : make_host_subdomain(cfg, s.size());
     ParticleArrays state = make_particle_arrays(s, g);
     std::mt19937 rng(43u);
     std::uniform_real_distribution<double> dv(-0.5, 0.5), drho(0.99, 1.01);
@@ -93,9 +108,21 @@ TEST(Forces, MatchABruteForceFloat64Reference) {
     }
     ASSERT_GT(norm_a, 0);
     ASSERT_GT(norm_d, 0);
+    std::printf("forces against float64 (%s, n = %d, merge = %d): relative RMS error %.3g (acceleration), %.3g "
+                "(density rate)\n",
+                fc.backend == BackendKind::cuda ? "cuda" : "host", fc.n, int(fc.merge), std::sqrt(err_a / norm_a),
+                std::sqrt(err_d / norm_d));
     EXPECT_LT(std::sqrt(err_a / norm_a), 1e-4);
     EXPECT_LT(std::sqrt(err_d / norm_d), 1e-4);
 }
+
+INSTANTIATE_TEST_SUITE_P(Backends, Forces,
+                         ::testing::Values(ForceCase{BackendKind::host, 1, false}, ForceCase{BackendKind::cuda, 1, false},
+                                           ForceCase{BackendKind::cuda, 2, true}),
+                         [](const auto& info) {
+                             return std::string(info.param.backend == BackendKind::cuda ? "cuda" : "host") + "_n" +
+                                    std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells");
+                         });
 
 TEST(Conservation, MomentumAndMassWithoutWallsOrGravity) {
     Scene s = test::random_scene(1500, 0, 0.2, 0.02, 7u, 0.2, 0.5);

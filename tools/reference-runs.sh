@@ -3,6 +3,10 @@
 # GPU machine (through tools/gpu-run.sh exec). Writes everything under $1 (default results/gpu).
 #   single: benchmarks against DualSPHysics, the CUDA-vs-host test, fig4, fig3, cll-vs-vl
 #   multi:  the multi-gpu experiment (figures 5 to 9) and fig10 (transports); needs 2 GPUs
+#   forceloop: the force loop's before/after (issue 12): the CUDA force tests, the
+#           benchmark cases with sphbench and with $BASE (an older build, when on PATH),
+#           alternating, Nsight Compute on the force kernels, and DualSPHysics beside them
+#           when DSPH (its anchor folder) is set
 #   accuracy: the CUDA tests, the accuracy sweep (needs sphbench-f64: F64=1 gpu-run.sh pack)
 #           and the stability studies (issue 6)
 set -uo pipefail
@@ -41,6 +45,42 @@ accuracy)
     echo "== $s"
     sphbench stability experiments/$s.toml --backend cuda --out "$out/stability" --force --quiet
   done
+  ;;
+forceloop)
+  nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
+  sph_tests --gtest_filter='Forces.*:CudaBackend.*:*CudaTransports*:*StencilCursor*' >"$out/cuda_tests.log" 2>&1
+  grep -E 'cuda |forces against|OK \]|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_tests.txt"
+  cases=("dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2"
+         "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2"
+         "armadillo --set particles=2980000" "armadillo --set particles=2980000 --merge --cells-per-support 2")
+  bins=(sphbench)
+  [ -n "${BASE:-}" ] && command -v "$BASE" >/dev/null && bins=("$BASE" sphbench)
+  for rep in $(seq 1 "${REPS:-1}"); do
+    for args in "${cases[@]}"; do
+      for bin in "${bins[@]}"; do
+        echo "== $bin simulate $args (repetition $rep)" | tee -a "$out/benchmarks.txt"
+        $bin simulate $args --steps 300 --warmup 20 --backend cuda --quiet --out "$out/simulate-$bin" 2>&1 |
+          tee -a "$out/benchmarks.txt"
+        cp "$out/simulate-$bin/dsph-dambreak_steps.csv" "$out/simulate-$bin/$(echo "$args" | tr ' =' '__')_rep$rep.csv" \
+          2>/dev/null || cp "$out/simulate-$bin/armadillo_steps.csv" \
+          "$out/simulate-$bin/$(echo "$args" | tr ' =' '__')_rep$rep.csv" 2>/dev/null
+      done
+    done
+  done
+  if [ -n "${DSPH:-}" ] && [ -x "$DSPH/run.sh" ]; then bash "$DSPH/run.sh" "$out/dualsphysics" | tail -8; fi
+  if [ "${NCU:-1}" = 1 ] && command -v ncu >/dev/null; then
+    for args in "dsph-dambreak" "armadillo --set particles=2980000"; do
+      for bin in "${bins[@]}"; do
+        echo "== ncu $bin simulate $args" | tee -a "$out/ncu.txt"
+        ncu --clock-control none -k 'regex:forces_' --launch-skip 3 --launch-count 1 \
+          --section SpeedOfLight --section Occupancy --section LaunchStats --section WarpStateStats \
+          --section InstructionStats --section MemoryWorkloadAnalysis \
+          --metrics smsp__thread_inst_executed_per_inst_executed.ratio,smsp__thread_inst_executed_pred_on_per_inst_executed.ratio,smsp__inst_executed.sum,l1tex__t_requests_pipe_lsu_mem_local_op_ld.sum,l1tex__t_requests_pipe_lsu_mem_local_op_st.sum \
+          $bin simulate $args --steps 6 --warmup 0 --backend cuda --quiet --out "$out/ncu-scratch" 2>&1 |
+          grep -vE '^==PROF==' | tee -a "$out/ncu.txt"
+      done
+    done
+  fi
   ;;
 multi)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"

@@ -27,6 +27,10 @@ void gather_sorted(const std::uint64_t* keys, const std::uint32_t* order, Sorted
                    std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, cudaStream_t s);
 void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::uint32_t cell_count,
                       std::uint32_t* cell_start, cudaStream_t s);
+// fluid_begin[c] = the first fluid particle of cell c, or cell_start[c + 1] when it has none
+// (the sort puts each cell's boundary particles first).
+void build_fluid_begin(const real4* sorted_velrho, const std::uint32_t* sorted_cell, const std::uint32_t* cell_start,
+                       std::uint32_t n, std::uint32_t cell_count, std::uint32_t* fluid_begin, cudaStream_t s);
 // Marks the particles of in-domain cells outside [begin, end) as ghosts (particle.hpp).
 void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, std::uint32_t begin, std::uint32_t end,
                  std::uint32_t out_of_domain, cudaStream_t s);

@@ -1,5 +1,6 @@
 // CUDA kernels: thin wrappers that run the shared per-particle functions, one thread per
-// particle, plus the CCCL calls that build cell ranges and reductions.
+// particle, plus the CCCL calls that build cell ranges and reductions. Launch choices (block
+// sizes, the force loop's neighbour buffer) come from cuda_launch_policy.cuh.
 #include <cub/block/block_reduce.cuh>
 #include <cub/device/device_reduce.cuh>
 #include <thrust/binary_search.h>
@@ -9,14 +10,17 @@
 
 #include "backend/cuda_drivers.cuh"
 #include "backend/cuda_check.cuh"
+#include "backend/cuda_launch_policy.cuh"
+#include "neighbours/stencil_cursor.hpp"
 #include "physics/dispatch.hpp"
 #include "physics/integration.hpp"
 
 namespace sph::gpu {
 namespace {
 
-constexpr int block_size = 128;
-inline unsigned blocks_for(std::uint32_t n) { return (n + block_size - 1) / block_size; }
+constexpr int block_size = ElementwisePolicy::block_size;
+template <int BlockSize = block_size>
+unsigned blocks_for(std::uint32_t n) { return (n + BlockSize - 1) / BlockSize; }
 
 __global__ void make_sort_keys_kernel(const std::uint32_t* cell, const std::uint32_t* id, std::uint64_t* keys,
                                       std::uint32_t* order, std::uint32_t n) {
@@ -45,6 +49,81 @@ __global__ void mark_ghosts_kernel(const std::uint32_t* cell, std::uint32_t* id,
     if (i < n) id[i] = mark_ghost(id[i], cell[i], begin, end, out_of_domain);
 }
 
+__global__ void fluid_begin_init_kernel(const std::uint32_t* cell_start, std::uint32_t* fluid_begin,
+                                        std::uint32_t cell_count) {
+    const std::uint32_t c = blockIdx.x * blockDim.x + threadIdx.x;
+    if (c <= cell_count) fluid_begin[c] = c < cell_count ? cell_start[c + 1] : cell_start[c];
+}
+
+// The first fluid particle of a cell is the one whose predecessor is a boundary particle or
+// lies in another cell (each cell holds its boundary particles first).
+__global__ void fluid_begin_mark_kernel(const real4* velrho, const std::uint32_t* cell, std::uint32_t* fluid_begin,
+                                        std::uint32_t n, std::uint32_t cell_count) {
+    const std::uint32_t k = blockIdx.x * blockDim.x + threadIdx.x;
+    if (k >= n) return;
+    const std::uint32_t c = cell[k];
+    if (c >= cell_count || is_boundary(velrho[k])) return;
+    if (k == 0 || cell[k - 1] != c || is_boundary(velrho[k - 1])) fluid_begin[c] = k;
+}
+
+// A neighbour's cell offset (each component in [-4, 4], cells per support at most 4) in
+// 4 bits a component.
+__device__ __forceinline__ std::uint16_t pack_offset(int dx, int dy, int dz) {
+    return std::uint16_t((dx + 8) | ((dy + 8) << 4) | ((dz + 8) << 8));
+}
+__device__ __forceinline__ int offset_x(unsigned o) { return int(o & 15u) - 8; }
+__device__ __forceinline__ int offset_y(unsigned o) { return int((o >> 4) & 15u) - 8; }
+__device__ __forceinline__ int offset_z(unsigned o) { return int(o >> 8) - 8; }
+
+// The force loop with full warps. One thread per particle walks its stencil (StencilCursor)
+// and only tests candidates, keeping those inside the support in its column of a shared
+// buffer; when the buffer is full (or the stencil done) the warp evaluates the pair bodies
+// of the buffered neighbours, so lanes run the expensive body together instead of at the
+// ratio of neighbours to candidates (about 1 in 5), then resumes the search. Neighbours are
+// summed in the order CellSearch::visit gives them, as in forces_kernel and on the host.
+// Boundary particles walk fluid candidates only (the cursor's fluid_only), so a wall far
+// from water costs two index loads per stencil cell.
+template <class Kernel, class Search, bool Diffusion, class Policy>
+__global__ void __launch_bounds__(Policy::block_size)
+    forces_gathered_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
+    __shared__ std::uint32_t slot_j[Policy::chunk][Policy::block_size];
+    __shared__ std::uint16_t slot_offset[Policy::chunk][Policy::block_size];
+    const std::uint32_t end = *range.end;
+    const std::uint32_t first = *range.begin + blockIdx.x * Policy::block_size;
+    if (first >= end) return;  // the whole block: no lane of its warps reaches a vote below
+    const std::uint32_t i = first + threadIdx.x;
+    const bool active = i < end;
+    const std::uint32_t me = active ? i : end - 1;  // idle lanes read a valid particle, write nothing
+    const Kernel kernel(p.h);
+    PairSums<Kernel, Diffusion> sums(me, in, p, kernel);
+    const real3 cs = in.grid.cell_size;
+    StencilCursor<Search> cursor(in.grid, in.cell_start, in.fluid_begin, in.cell, in.grid.decode(in.cell[me]),
+                                 !sums.fluid_i);
+    bool more = active && cursor.start();
+    while (__any_sync(0xffffffffu, more)) {
+        int count = 0;
+        while (more && count < Policy::chunk) {
+            const real3 rij = separation(sums.pos_i, in.pos[cursor.j], cursor.dx, cursor.dy, cursor.dz, cs);
+            const real r2 = dot(rij, rij);
+            if (r2 < p.support2 && r2 > real(1e-18) * p.support2) {
+                slot_j[count][threadIdx.x] = cursor.j;
+                slot_offset[count][threadIdx.x] = pack_offset(cursor.dx, cursor.dy, cursor.dz);
+                ++count;
+            }
+            more = cursor.advance();
+        }
+        for (int k = 0; k < count; ++k) {
+            const std::uint32_t j = slot_j[k][threadIdx.x];
+            const unsigned o = slot_offset[k][threadIdx.x];
+            const real3 rij = separation(sums.pos_i, in.pos[j], offset_x(o), offset_y(o), offset_z(o), cs);
+            sums.add(j, rij, dot(rij, rij));
+        }
+    }
+    if (active) force[i] = sums.result();
+}
+
+// The plain force loop: one thread per particle visiting candidates through the search's
+// visit(). Kept for periodic z axes, whose merged runs the cursor does not split.
 template <class Kernel, class Search, bool Diffusion>
 __global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force,
                                                             ActiveRange range) {
@@ -160,6 +239,15 @@ void build_cell_start(const std::uint32_t* sorted_cell, std::uint32_t n, std::ui
     SPH_CUDA_CHECK_LAUNCH();
 }
 
+void build_fluid_begin(const real4* sorted_velrho, const std::uint32_t* sorted_cell, const std::uint32_t* cell_start,
+                       std::uint32_t n, std::uint32_t cell_count, std::uint32_t* fluid_begin, cudaStream_t s) {
+    fluid_begin_init_kernel<<<blocks_for(cell_count + 1), block_size, 0, s>>>(cell_start, fluid_begin, cell_count);
+    SPH_CUDA_CHECK_LAUNCH();
+    if (n == 0) return;
+    fluid_begin_mark_kernel<<<blocks_for(n), block_size, 0, s>>>(sorted_velrho, sorted_cell, fluid_begin, n, cell_count);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
 void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, std::uint32_t begin, std::uint32_t end,
                  std::uint32_t out_of_domain, cudaStream_t s) {
     if (n == 0) return;
@@ -170,11 +258,18 @@ void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, 
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
+    const bool gathered = !in.grid.periodic_z && in.fluid_begin != nullptr;
     dispatch_physics(cfg.kernel, cfg.diffusion, cfg.search, [&](auto k, auto srch, auto diffusion) {
         using Kernel = typename decltype(k)::type;
         using Search = typename decltype(srch)::type;
-        forces_kernel<Kernel, Search, decltype(diffusion)::value>
-            <<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, range);
+        constexpr bool Diffusion = decltype(diffusion)::value;
+        if (gathered) {
+            using Policy = ForceLoopPolicy;
+            forces_gathered_kernel<Kernel, Search, Diffusion, Policy>
+                <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
+        } else {
+            forces_kernel<Kernel, Search, Diffusion><<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, range);
+        }
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

@@ -32,7 +32,7 @@ public:
         SPH_CUDA_CHECK(cub::DeviceRadixSort::SortPairs(nullptr, sort_temp, kb, vb, int(capacity)));
         const std::size_t reduce_temp = gpu::reduce_stats_temp_bytes(std::uint32_t(capacity));
         temp_bytes_ = std::max({sort_temp, reduce_temp, gpu::longest_list_temp_bytes(std::uint32_t(capacity))});
-        const std::size_t need = capacity * bytes_per_particle + (std::size_t(ncells) + 1) * 4 + temp_bytes_ + (64 << 20);
+        const std::size_t need = capacity * bytes_per_particle + (std::size_t(ncells) + 1) * 8 + temp_bytes_ + (64 << 20);
         std::size_t free_b = 0, total_b = 0;
         SPH_CUDA_CHECK(cudaMemGetInfo(&free_b, &total_b));
         if (need > free_b) {
@@ -54,6 +54,7 @@ public:
         order_.allocate(capacity);
         order_alt_.allocate(capacity);
         cell_start_.allocate(std::size_t(ncells) + 1);
+        fluid_begin_.allocate(std::size_t(ncells) + 1);
         temp_.allocate(temp_bytes_);
         stats_.allocate(1);
         counters_.allocate(3);
@@ -87,6 +88,7 @@ public:
         // Until the first sort every particle counts as active.
         const std::uint32_t ncells = cfg_.grid.cell_count();
         SPH_CUDA_CHECK(cudaMemsetAsync(cell_start_.data(), 0, cell_start_.bytes(), stream_));
+        SPH_CUDA_CHECK(cudaMemsetAsync(fluid_begin_.data(), 0, fluid_begin_.bytes(), stream_));
         SPH_CUDA_CHECK(cudaMemcpyAsync(cell_start_.data() + ncells, &n_, sizeof n_, cudaMemcpyHostToDevice, stream_));
         SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
         n_active_ = n_;
@@ -229,6 +231,8 @@ public:
         velrho_.swap(velrho_alt_);
         velrho_prev_.swap(velrho_prev_alt_);
         gpu::build_cell_start(cell_.data(), n_, cfg_.grid.cell_count(), cell_start_.data(), stream_);
+        gpu::build_fluid_begin(velrho_.data(), cell_.data(), cell_start_.data(), n_, cfg_.grid.cell_count(),
+                               fluid_begin_.data(), stream_);
         active_stale_ = true;
     }
 
@@ -301,13 +305,15 @@ public:
         return n_active_;
     }
     std::size_t bytes_allocated() const override {
-        return pos_.size() * bytes_per_particle + cell_start_.bytes() + temp_.bytes() + neighbour_list_bytes();
+        return pos_.size() * bytes_per_particle + cell_start_.bytes() + fluid_begin_.bytes() + temp_.bytes() +
+               neighbour_list_bytes();
     }
     PhaseClock& clock() override { return clock_; }
 
 private:
     ForceInputs inputs() const {
-        return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), cfg_.grid};
+        return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), fluid_begin_.data(),
+                cfg_.grid};
     }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     // Subdomains of one run live on different GPUs and share the host thread: every entry
@@ -327,7 +333,7 @@ private:
     CudaPhaseClock clock_;
     DeviceBuffer<real4> pos_, pos_alt_, velrho_, velrho_alt_, velrho_prev_, velrho_prev_alt_, force_;
     DeviceBuffer<real4> grad_c_;  // shifting only: written by compute_forces' gradient pass, read by advance
-    DeviceBuffer<std::uint32_t> cell_, id_, order_, order_alt_, cell_start_;
+    DeviceBuffer<std::uint32_t> cell_, id_, order_, order_alt_, cell_start_, fluid_begin_;
     DeviceBuffer<std::uint64_t> keys_, keys_alt_;
     DeviceBuffer<unsigned char> temp_;
     DeviceBuffer<StepStats> stats_;

@@ -236,7 +236,8 @@ private:
         owned_hi_ = cell_start_[std::min(owned_cells_[1], ncells)];
     }
     ForceInputs inputs() const {
-        return {a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(), a_.cell.data(), cell_start_.data(), cfg_.grid};
+        return {a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(), a_.cell.data(), cell_start_.data(), nullptr,
+                cfg_.grid};
     }
     // Shifting only (the Simulation refuses it with Verlet lists, whose cells go stale).
     void concentration_gradient_loop(const ForceInputs& in) {

@@ -31,6 +31,10 @@ struct ForceInputs {
     const real4* velrho_prev;  // the previous step's, for the dissipative terms
     const std::uint32_t* cell;
     const std::uint32_t* cell_start;
+    // First fluid particle of each cell (cell_start[c] <= fluid_begin[c] <= cell_start[c + 1]),
+    // for searches that let boundary particles visit fluid only; null where no search uses it
+    // (the host backend).
+    const std::uint32_t* fluid_begin;
     GridView grid;
 };
 

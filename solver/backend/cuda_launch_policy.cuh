@@ -1,0 +1,34 @@
+#pragma once
+// Launch choices of the CUDA kernels, kept apart from the kernels (CUB's tuning policies):
+// block sizes and the force loop's neighbour buffer, per GPU architecture. A kernel reads
+// its policy as a template argument; the driver functions pick the policy for the GPU.
+// Measured choices and their log: bench/FORCE_LOOP_NOTES.md.
+namespace sph::gpu {
+
+// The plain per-particle kernels (sort keys, gathers, advance, statistics).
+struct ElementwisePolicy {
+    static constexpr int block_size = 128;
+};
+
+// The force loop that gathers neighbours before it evaluates them (cuda_kernels.cu,
+// forces_gathered_kernel). Each thread owns a column of `chunk` neighbour slots in shared
+// memory (6 bytes a slot: the index and the packed cell offset), so a block holds
+// block_size * chunk * 6 bytes: 24 KiB for 128 x 32, which keeps 8 blocks (1024 threads)
+// of an SM of Hopper's 228 KiB resident. A longer chunk wastes less of the last, partial
+// drain of a thread's neighbours; a shorter one leaves more shared memory to the L1.
+struct ForceLoopPolicySm90 {
+    static constexpr int block_size = 128;
+    static constexpr int chunk = 32;
+};
+
+// The searches without a gather step (Verlet lists, list builds, work counters, shifting).
+struct NeighbourLoopPolicySm90 {
+    static constexpr int block_size = 128;
+};
+
+// One architecture is tuned today (the build targets sm_90); a second one gets its own
+// structs here and a switch on the device's compute capability in the drivers.
+using ForceLoopPolicy = ForceLoopPolicySm90;
+using NeighbourLoopPolicy = NeighbourLoopPolicySm90;
+
+}  // namespace sph::gpu
