@@ -8,7 +8,6 @@
 #include <random>
 #include <set>
 
-#include "neighbours/stencil_cursor.hpp"
 #include "physics/dispatch.hpp"
 #include "test_support.hpp"
 
@@ -85,17 +84,22 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, NeighbourSearch,
                              return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells");
                          });
 
-// The resumable cursor of the GPU force loop (StencilCursor) gives the candidates of
-// CellSearch::visit in the same order with the same cell offsets (so sums come out in the
-// same order as on the host); opened for a boundary particle it gives exactly visit's fluid
-// candidates, in visit's order. Half the particles are boundary, so cells mix both kinds.
-class StencilCursorOrder : public ::testing::TestWithParam<Strategy> {};
+// The GPU force loop reads the stencil as ranges (CellSearch::visit_ranges): expanded, they
+// give the candidates of visit() in the same order with the same cell offsets; for a boundary
+// particle (fluid only, from each cell's first fluid particle) exactly visit()'s fluid
+// candidates. Half the particles are boundary, so cells mix both kinds; open and periodic.
+struct RangeCase {
+    int n;
+    bool merge, periodic;
+};
+class StencilRanges : public ::testing::TestWithParam<RangeCase> {};
 
-TEST_P(StencilCursorOrder, MatchesVisitAndSkipsOnlyBoundaryCandidatesOfBoundaryParticles) {
-    const Strategy st = GetParam();
-    Scene s = test::random_scene(1200, 600, 0.3, 0.02, 777u + st.n * 2 + st.merge);
-    const SearchOptions opt{st.n, st.merge};
-    const Grid g = make_grid(s.lo.data(), s.hi.data(), s.params.support, st.n);
+TEST_P(StencilRanges, ExpandToVisitsCandidatesAndBoundaryParticlesSkipOnlyBoundaryOnes) {
+    const RangeCase rc = GetParam();
+    Scene s = test::random_scene(1200, 600, 0.3, 0.02, 777u + rc.n * 4 + rc.merge * 2 + rc.periodic);
+    const SearchOptions opt{rc.n, rc.merge};
+    const bool periodic[3] = {rc.periodic, rc.periodic, rc.periodic};
+    const Grid g = make_grid(s.lo.data(), s.hi.data(), s.params.support, rc.n, periodic);
     auto d = make_host_subdomain({s.params, g.view, s.kernel, true, opt}, s.size());
     d->upload(make_particle_arrays(s, g));
     d->sort_by_cell();
@@ -114,6 +118,9 @@ TEST_P(StencilCursorOrder, MatchesVisitAndSkipsOnlyBoundaryCandidatesOfBoundaryP
     fluid_begin[ncells] = start[ncells];
 
     using Visit = std::vector<std::array<std::uint32_t, 4>>;
+    auto entry = [](std::uint32_t j, int dx, int dy, int dz) {
+        return std::array<std::uint32_t, 4>{j, std::uint32_t(dx + 8), std::uint32_t(dy + 8), std::uint32_t(dz + 8)};
+    };
     std::size_t boundary_particles = 0, skipped = 0;
     dispatch_search(opt, [&](auto tag) {
         using Search = typename decltype(tag)::type;
@@ -126,11 +133,14 @@ TEST_P(StencilCursorOrder, MatchesVisitAndSkipsOnlyBoundaryCandidatesOfBoundaryP
                     ++skipped;
                     return;
                 }
-                expected.push_back({j, std::uint32_t(dx + 8), std::uint32_t(dy + 8), std::uint32_t(dz + 8)});
+                expected.push_back(entry(j, dx, dy, dz));
             });
-            StencilCursor<Search> cur(g.view, start.data(), fluid_begin.data(), a.cell.data(), c, fluid_only);
-            for (bool more = cur.start(); more; more = cur.advance())
-                got.push_back({cur.j, std::uint32_t(cur.dx + 8), std::uint32_t(cur.dy + 8), std::uint32_t(cur.dz + 8)});
+            auto expand = [&](const CellRange& r) {
+                for (std::uint32_t j = r.begin; j < r.end; ++j)
+                    got.push_back(entry(j, r.dx, r.dy, r.merged ? int(a.cell[j]) - r.z_ref : r.dz));
+            };
+            if (fluid_only) Search::template visit_ranges<true>(g.view, start.data(), fluid_begin.data(), c, expand);
+            else Search::template visit_ranges<false>(g.view, start.data(), start.data(), c, expand);
             ASSERT_EQ(got, expected) << "particle " << i << (fluid_only ? " (boundary)" : " (fluid)");
             boundary_particles += fluid_only;
         }
@@ -139,11 +149,14 @@ TEST_P(StencilCursorOrder, MatchesVisitAndSkipsOnlyBoundaryCandidatesOfBoundaryP
     EXPECT_GT(skipped, 0u);  // boundary particles did have boundary candidates to skip
 }
 
-INSTANTIATE_TEST_SUITE_P(AllStrategies, StencilCursorOrder,
-                         ::testing::Values(Strategy{1, false}, Strategy{1, true}, Strategy{2, false}, Strategy{2, true},
-                                           Strategy{3, true}, Strategy{4, true}),
+INSTANTIATE_TEST_SUITE_P(AllStrategies, StencilRanges,
+                         ::testing::Values(RangeCase{1, false, false}, RangeCase{1, true, false},
+                                           RangeCase{2, false, false}, RangeCase{2, true, false},
+                                           RangeCase{4, true, false}, RangeCase{1, false, true},
+                                           RangeCase{1, true, true}, RangeCase{2, true, true}),
                          [](const auto& info) {
-                             return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells");
+                             return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
+                                    (info.param.periodic ? "_periodic" : "_open");
                          });
 
 TEST(NeighbourSearch, CellMergingVisitsNineRangesInsteadOf27Cells) {

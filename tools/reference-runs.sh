@@ -48,7 +48,7 @@ accuracy)
   ;;
 forceloop)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
-  sph_tests --gtest_filter='Forces.*:CudaBackend.*:*CudaTransports*:*StencilCursor*' >"$out/cuda_tests.log" 2>&1
+  sph_tests --gtest_filter='*Forces.*:CudaBackend.*:*CudaTransports*:*StencilRanges*' >"$out/cuda_tests.log" 2>&1
   grep -E 'cuda |forces against|OK \]|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_tests.txt"
   cases=("dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2"
          "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2"
@@ -81,6 +81,10 @@ forceloop)
       done
     done
   fi
+  # The run tool brings back a limited number of files: the many small ones go in one archive.
+  (cd "$out" && tar -czf runs.tar.gz simulate-* dualsphysics ncu-scratch 2>/dev/null; rm -rf simulate-* ncu-scratch)
+  [ -f "$out/dualsphysics/summary.txt" ] && cp "$out/dualsphysics/summary.txt" "$out/dualsphysics-summary.txt"
+  rm -rf "$out/dualsphysics"
   ;;
 multi)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"

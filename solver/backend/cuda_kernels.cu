@@ -11,7 +11,6 @@
 #include "backend/cuda_drivers.cuh"
 #include "backend/cuda_check.cuh"
 #include "backend/cuda_launch_policy.cuh"
-#include "neighbours/stencil_cursor.hpp"
 #include "physics/dispatch.hpp"
 #include "physics/integration.hpp"
 
@@ -75,55 +74,86 @@ __device__ __forceinline__ int offset_x(unsigned o) { return int(o & 15u) - 8; }
 __device__ __forceinline__ int offset_y(unsigned o) { return int((o >> 4) & 15u) - 8; }
 __device__ __forceinline__ int offset_z(unsigned o) { return int(o >> 8) - 8; }
 
-// The force loop with full warps. One thread per particle walks its stencil (StencilCursor)
-// and only tests candidates, keeping those inside the support in its column of a shared
-// buffer; when the buffer is full (or the stencil done) the warp evaluates the pair bodies
-// of the buffered neighbours, so lanes run the expensive body together instead of at the
-// ratio of neighbours to candidates (about 1 in 5), then resumes the search. Neighbours are
-// summed in the order CellSearch::visit gives them, as in forces_kernel and on the host.
-// Boundary particles walk fluid candidates only (the cursor's fluid_only), so a wall far
-// from water costs two index loads per stencil cell.
+constexpr unsigned full_warp = 0xffffffffu;
+
+// The force loop, one warp per particle. The particle's stencil ranges (CellSearch::
+// visit_ranges) are uniform across the warp, so its lanes take 32 consecutive candidates at a
+// time: coalesced loads and no divergent loop bounds (the thread-per-particle loop ran at 13
+// of 32 lanes). Candidates inside the support are compacted (ballot, prefix count) into a
+// per-warp buffer; every 32 of them the lanes evaluate the pair body together, each on one
+// neighbour, so the body runs on full warps. Lanes keep partial sums, added in a fixed tree
+// at the end: deterministic, but summed in another order than the host's loop.
+// Boundary particles read fluid candidates only (fluid_begin), so a wall far from water
+// costs two index loads per stencil cell.
 template <class Kernel, class Search, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size)
-    forces_gathered_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
-    __shared__ std::uint32_t slot_j[Policy::chunk][Policy::block_size];
-    __shared__ std::uint16_t slot_offset[Policy::chunk][Policy::block_size];
-    const std::uint32_t end = *range.end;
-    const std::uint32_t first = *range.begin + blockIdx.x * Policy::block_size;
-    if (first >= end) return;  // the whole block: no lane of its warps reaches a vote below
-    const std::uint32_t i = first + threadIdx.x;
-    const bool active = i < end;
-    const std::uint32_t me = active ? i : end - 1;  // idle lanes read a valid particle, write nothing
+    forces_warp_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
+    constexpr int warps = Policy::block_size / 32;
+    __shared__ std::uint32_t slot_j[warps][64];
+    __shared__ std::uint16_t slot_offset[warps][64];
+    const int lane = int(threadIdx.x & 31u), warp = int(threadIdx.x >> 5);
+    const std::uint32_t i = *range.begin + blockIdx.x * warps + warp;
+    if (i >= *range.end) return;  // the whole warp
+    std::uint32_t* const buf_j = slot_j[warp];
+    std::uint16_t* const buf_offset = slot_offset[warp];
     const Kernel kernel(p.h);
-    PairSums<Kernel, Diffusion> sums(me, in, p, kernel);
+    PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
     const real3 cs = in.grid.cell_size;
-    StencilCursor<Search> cursor(in.grid, in.cell_start, in.fluid_begin, in.cell, in.grid.decode(in.cell[me]),
-                                 !sums.fluid_i);
-    bool more = active && cursor.start();
-    while (__any_sync(0xffffffffu, more)) {
-        int count = 0;
-        while (more && count < Policy::chunk) {
-            const real3 rij = separation(sums.pos_i, in.pos[cursor.j], cursor.dx, cursor.dy, cursor.dz, cs);
-            const real r2 = dot(rij, rij);
-            if (r2 < p.support2 && r2 > real(1e-18) * p.support2) {
-                slot_j[count][threadIdx.x] = cursor.j;
-                slot_offset[count][threadIdx.x] = pack_offset(cursor.dx, cursor.dy, cursor.dz);
-                ++count;
-            }
-            more = cursor.advance();
-        }
-        for (int k = 0; k < count; ++k) {
-            const std::uint32_t j = slot_j[k][threadIdx.x];
-            const unsigned o = slot_offset[k][threadIdx.x];
+    const int3v c = in.grid.decode(in.cell[i]);
+    const unsigned lanes_below = (1u << lane) - 1u;
+    int count = 0;  // buffered neighbours, the same in every lane
+    auto drain = [&](int n) {
+        __syncwarp();
+        if (lane < n) {
+            const std::uint32_t j = buf_j[lane];
+            const unsigned o = buf_offset[lane];
             const real3 rij = separation(sums.pos_i, in.pos[j], offset_x(o), offset_y(o), offset_z(o), cs);
             sums.add(j, rij, dot(rij, rij));
         }
+    };
+    auto take = [&](const CellRange& r) {
+        for (std::uint32_t base = r.begin; base < r.end; base += 32) {
+            const std::uint32_t j = base + std::uint32_t(lane);
+            bool hit = false;
+            int dz = r.dz;
+            if (j < r.end) {
+                if (r.merged) dz = int(in.cell[j]) - r.z_ref;
+                const real3 rij = separation(sums.pos_i, in.pos[j], r.dx, r.dy, dz, cs);
+                const real r2 = dot(rij, rij);
+                hit = r2 < p.support2 && r2 > real(1e-18) * p.support2;
+            }
+            const unsigned hits = __ballot_sync(full_warp, hit);
+            if (hit) {
+                const int k = count + __popc(hits & lanes_below);
+                buf_j[k] = j;
+                buf_offset[k] = pack_offset(r.dx, r.dy, dz);
+            }
+            count += __popc(hits);
+            if (count >= 32) {
+                drain(32);
+                if (lane < count - 32) {  // the overflow to the front: each lane its own slots
+                    buf_j[lane] = buf_j[32 + lane];
+                    buf_offset[lane] = buf_offset[32 + lane];
+                }
+                count -= 32;
+                __syncwarp();
+            }
+        }
+    };
+    if (sums.fluid_i) Search::template visit_ranges<false>(in.grid, in.cell_start, in.cell_start, c, take);
+    else Search::template visit_ranges<true>(in.grid, in.cell_start, in.fluid_begin, c, take);
+    if (count > 0) drain(count);
+    for (int offset = 16; offset > 0; offset >>= 1) {
+        sums.acc.x += __shfl_xor_sync(full_warp, sums.acc.x, offset);
+        sums.acc.y += __shfl_xor_sync(full_warp, sums.acc.y, offset);
+        sums.acc.z += __shfl_xor_sync(full_warp, sums.acc.z, offset);
+        sums.drho += __shfl_xor_sync(full_warp, sums.drho, offset);
     }
-    if (active) force[i] = sums.result();
+    if (lane == 0) force[i] = sums.result();
 }
 
 // The plain force loop: one thread per particle visiting candidates through the search's
-// visit(). Kept for periodic z axes, whose merged runs the cursor does not split.
+// visit(), as on the host. Used where no fluid_begin is given (it needs none).
 template <class Kernel, class Search, bool Diffusion>
 __global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force,
                                                             ActiveRange range) {
@@ -258,15 +288,16 @@ void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, 
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    const bool gathered = !in.grid.periodic_z && in.fluid_begin != nullptr;
+    const bool per_warp = in.fluid_begin != nullptr;
     dispatch_physics(cfg.kernel, cfg.diffusion, cfg.search, [&](auto k, auto srch, auto diffusion) {
         using Kernel = typename decltype(k)::type;
         using Search = typename decltype(srch)::type;
         constexpr bool Diffusion = decltype(diffusion)::value;
-        if (gathered) {
+        if (per_warp) {
             using Policy = ForceLoopPolicy;
-            forces_gathered_kernel<Kernel, Search, Diffusion, Policy>
-                <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
+            constexpr int particles_per_block = Policy::block_size / 32;
+            forces_warp_kernel<Kernel, Search, Diffusion, Policy>
+                <<<blocks_for<particles_per_block>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
         } else {
             forces_kernel<Kernel, Search, Diffusion><<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, range);
         }
