@@ -5,7 +5,7 @@
 #   multi:  the multi-gpu experiment (figures 5 to 9) and fig10 (transports); needs 2 GPUs
 #   forceloop: the force loop's before/after (issue 12): the CUDA force tests, the
 #           benchmark cases with sphbench and with $BASE (an older build, when on PATH),
-#           alternating, Nsight Compute on the force kernels, and DualSPHysics beside them
+#           alternating (and the commands named in $EXTRA_BINS), Nsight Compute on the force kernels, and DualSPHysics beside them
 #           when DSPH (its anchor folder) is set
 #   accuracy: the CUDA tests, the accuracy sweep (needs sphbench-f64: F64=1 gpu-run.sh pack)
 #           and the stability studies (issue 6)
@@ -55,6 +55,7 @@ forceloop)
          "armadillo --set particles=2980000" "armadillo --set particles=2980000 --merge --cells-per-support 2")
   bins=(sphbench)
   [ -n "${BASE:-}" ] && command -v "$BASE" >/dev/null && bins=("$BASE" sphbench)
+  for extra in ${EXTRA_BINS:-}; do command -v "$extra" >/dev/null && bins+=("$extra"); done
   for rep in $(seq 1 "${REPS:-1}"); do
     for args in "${cases[@]}"; do
       for bin in "${bins[@]}"; do
