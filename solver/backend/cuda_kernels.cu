@@ -8,9 +8,6 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
 
-#include <climits>
-#include <cstdlib>
-#include <string>
 
 #include "backend/cuda_drivers.cuh"
 #include "backend/cuda_check.cuh"
@@ -69,125 +66,13 @@ __global__ void fluid_begin_mark_kernel(const real4* velrho, const std::uint32_t
     if (k == 0 || cell[k - 1] != c || is_boundary(velrho[k - 1])) fluid_begin[c] = k;
 }
 
-// A neighbour's cell offset (each component in [-4, 4], cells per support at most 4) in
-// 4 bits a component.
-__device__ __forceinline__ std::uint16_t pack_offset(int dx, int dy, int dz) {
-    return std::uint16_t((dx + 8) | ((dy + 8) << 4) | ((dz + 8) << 8));
-}
-__device__ __forceinline__ int offset_x(unsigned o) { return int(o & 15u) - 8; }
-__device__ __forceinline__ int offset_y(unsigned o) { return int((o >> 4) & 15u) - 8; }
-__device__ __forceinline__ int offset_z(unsigned o) { return int(o >> 8) - 8; }
-
-constexpr unsigned full_warp = 0xffffffffu;
-
-// The force loop over a stencil shared by the lanes of a warp. Sorted particles fill a warp
-// with 32 neighbours in one (x, y) column of cells, whose stencils are the same columns and
-// nearly the same z-runs: the warp walks the union of its lanes' stencils (each column's run
-// from the lowest lane's z - N to the highest lane's z + N) with one candidate at a time for
-// all lanes (one broadcast load, no divergent loop bounds), and each lane keeps the
-// candidates inside its support in its column of a shared buffer. When some lane's buffer is
-// full, every lane evaluates the pair body over its buffered neighbours, so the body runs on
-// (nearly) full warps instead of at the ratio of neighbours to candidates; then the walk goes
-// on. A warp whose particles span two columns walks once per column, with the lanes of the
-// other column idle. Each lane sums its neighbours in visit()'s order (column by column, in
-// sorted order within a column's run), as the host's loop does. A warp of boundary particles
-// walks only the fluid part of each cell (fluid_begin); a mixed warp tests each candidate's
-// type for its boundary lanes.
+// The force loop: one thread per particle visiting its stencil (particle_force), walls only
+// the fluid of each cell. Two designs that gave the pair body full warps were measured slower
+// on an H200 (bench/FORCE_LOOP_NOTES.md, changes 1 to 3) and are in git history.
 template <class Kernel, class Search, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size)
-    forces_shared_stencil_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
-    constexpr int N = Search::n;
-    __shared__ std::uint32_t slot_j[Policy::chunk][Policy::block_size];
-    __shared__ std::uint16_t slot_offset[Policy::chunk][Policy::block_size];
-    const std::uint32_t end = *range.end;
-    const std::uint32_t first = *range.begin + blockIdx.x * Policy::block_size;
-    if (first >= end) return;  // the whole block: every warp below votes with all its lanes
-    const std::uint32_t i = first + threadIdx.x;
-    const bool active = i < end;
-    const std::uint32_t me = active ? i : end - 1;  // idle lanes read a valid particle, write nothing
-    const Kernel kernel(p.h);
-    PairSums<Kernel, Diffusion> sums(me, in, p, kernel);
-    const GridView& g = in.grid;
-    const real3 cs = g.cell_size;
-    const int3v c = g.decode(in.cell[me]);
-    int count = 0;
-    auto drain = [&] {
-        for (int k = 0; k < count; ++k) {
-            const std::uint32_t j = slot_j[k][threadIdx.x];
-            const unsigned o = slot_offset[k][threadIdx.x];
-            const real3 rij = separation(sums.pos_i, in.pos[j], offset_x(o), offset_y(o), offset_z(o), cs);
-            sums.add(j, rij, dot(rij, rij));
-        }
-        count = 0;
-    };
-    // One candidate for the lanes of the group: those it is a neighbour of keep it.
-    auto test = [&](bool mine, std::uint32_t j, int dx, int dy, int zj, bool fluid_j) {
-        if (mine) {
-            const int dz = zj - c.z;
-            const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
-            const real r2 = dot(rij, rij);
-            if (r2 < p.support2 && r2 > real(1e-18) * p.support2 && (sums.fluid_i || fluid_j)) {
-                slot_j[count][threadIdx.x] = j;
-                slot_offset[count][threadIdx.x] = pack_offset(dx, dy, dz);
-                ++count;
-            }
-        }
-        if (__any_sync(full_warp, count == Policy::chunk)) drain();
-    };
-    bool pending = active;
-    for (;;) {
-        const unsigned waiting = __ballot_sync(full_warp, pending);
-        if (waiting == 0) break;
-        const int leader = __ffs(waiting) - 1;
-        const int gx = __shfl_sync(full_warp, c.x, leader), gy = __shfl_sync(full_warp, c.y, leader);
-        const bool mine = pending && c.x == gx && c.y == gy;
-        const int zlo = __reduce_min_sync(full_warp, mine ? c.z : INT_MAX);
-        const int zhi = __reduce_max_sync(full_warp, mine ? c.z : INT_MIN);
-        const bool any_boundary = __any_sync(full_warp, mine && !sums.fluid_i);
-        const bool all_boundary = __all_sync(full_warp, !mine || !sums.fluid_i);
-        const int z0 = zlo - N < 0 ? 0 : zlo - N;
-        const int z1 = zhi + N >= g.nz ? g.nz - 1 : zhi + N;
-        for (int dx = -N; dx <= N; ++dx) {
-            int x = gx + dx;
-            if (x < 0 || x >= g.nx) {
-                if (!g.periodic_x) continue;
-                x = wrap_index(x, g.nx);
-            }
-            for (int dy = -N; dy <= N; ++dy) {
-                int y = gy + dy;
-                if (y < 0 || y >= g.ny) {
-                    if (!g.periodic_y) continue;
-                    y = wrap_index(y, g.ny);
-                }
-                const std::uint32_t column = g.encode(x, y, 0);
-                if (all_boundary) {  // walls: the fluid of each cell, which is often none
-                    for (int z = z0; z <= z1; ++z) {
-                        const std::uint32_t cell_end = in.cell_start[column + z + 1];
-                        for (std::uint32_t j = in.fluid_begin[column + z]; j < cell_end; ++j)
-                            test(mine, j, dx, dy, z, true);
-                    }
-                } else {
-                    const std::uint32_t run_end = in.cell_start[column + z1 + 1];
-                    for (std::uint32_t j = in.cell_start[column + z0]; j < run_end; ++j) {
-                        const bool fluid_j = !any_boundary || !is_boundary(in.velrho[j]);
-                        test(mine, j, dx, dy, int(in.cell[j] - column), fluid_j);
-                    }
-                }
-            }
-        }
-        pending = pending && !mine;
-    }
-    drain();
-    if (active) force[i] = sums.result();
-}
-
-// The plain force loop: one thread per particle visiting candidates through the search's
-// visit(), as on the host. Used along a periodic z axis (a column's run then wraps) and where
-// SPH_FORCE_LOOP=per-thread asks for it (to time the two on one build).
-template <class Kernel, class Search, bool Diffusion>
-__global__ void __launch_bounds__(block_size) forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force,
-                                                            ActiveRange range) {
-    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * Policy::block_size + threadIdx.x;
     if (i >= *range.end) return;
     const Kernel kernel(p.h);
     force[i] = particle_force<Kernel, Search, Diffusion>(i, in, p, kernel);
@@ -274,16 +159,6 @@ auto stats_iterator(const StatsOfParticle& op) {
     return thrust::make_transform_iterator(thrust::make_counting_iterator<std::uint32_t>(0), op);
 }
 
-// SPH_FORCE_LOOP=per-thread selects the plain loop (read once): a switch for timing the two
-// loops on one build, not a setting of runs.
-bool per_thread_force_loop_requested() {
-    static const bool requested = [] {
-        const char* v = std::getenv("SPH_FORCE_LOOP");
-        return v != nullptr && std::string(v) == "per-thread";
-    }();
-    return requested;
-}
-
 }  // namespace
 
 void make_sort_keys(const std::uint32_t* cell, const std::uint32_t* id, std::uint64_t* keys, std::uint32_t* order,
@@ -328,18 +203,13 @@ void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, 
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    const bool shared_stencil = !in.grid.periodic_z && in.fluid_begin != nullptr && !per_thread_force_loop_requested();
     dispatch_physics(cfg.kernel, cfg.diffusion, cfg.search, [&](auto k, auto srch, auto diffusion) {
         using Kernel = typename decltype(k)::type;
         using Search = typename decltype(srch)::type;
         constexpr bool Diffusion = decltype(diffusion)::value;
-        if (shared_stencil) {
-            using Policy = ForceLoopPolicy;
-            forces_shared_stencil_kernel<Kernel, Search, Diffusion, Policy>
-                <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
-        } else {
-            forces_kernel<Kernel, Search, Diffusion><<<blocks_for(n), block_size, 0, s>>>(in, cfg.params, force, range);
-        }
+        using Policy = ForceLoopPolicy;
+        forces_kernel<Kernel, Search, Diffusion, Policy>
+            <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

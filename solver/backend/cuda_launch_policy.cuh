@@ -1,6 +1,6 @@
 #pragma once
 // Launch choices of the CUDA kernels, kept apart from the kernels (CUB's tuning policies):
-// block sizes and the force loop's neighbour buffer, per GPU architecture. A kernel reads
+// block sizes, per GPU architecture. A kernel reads
 // its policy as a template argument; the driver functions pick the policy for the GPU.
 // Measured choices and their log: bench/FORCE_LOOP_NOTES.md.
 namespace sph::gpu {
@@ -10,15 +10,9 @@ struct ElementwisePolicy {
     static constexpr int block_size = 128;
 };
 
-// The force loop over a warp's shared stencil (cuda_kernels.cu, forces_shared_stencil_kernel).
-// Each thread owns a column of `chunk` neighbour slots in shared memory (6 bytes a slot: the
-// index and the packed cell offset), so a block holds block_size * chunk * 6 bytes: 24 KiB
-// for 128 x 32, which keeps 8 blocks (1024 threads) of an SM of Hopper's 228 KiB resident.
-// The warp evaluates its buffers when one lane's is full: a longer chunk drains less often
-// (fewer idle lanes at each drain), a shorter one leaves more shared memory to the L1.
+// The force loop (cuda_kernels.cu, forces_kernel): one thread per particle.
 struct ForceLoopPolicySm90 {
     static constexpr int block_size = 128;
-    static constexpr int chunk = 32;
 };
 
 // The searches without a gather step (Verlet lists, list builds, work counters, shifting).

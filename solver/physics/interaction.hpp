@@ -44,7 +44,7 @@ template <class Kernel, bool Diffusion>
 struct PairSums {
     const ForceInputs& in;
     const PhysicsParams& p;
-    const Kernel& kernel;
+    const Kernel kernel;  // a copy (two numbers): a reference to a local made the GPU keep it on the stack
     real4 pos_i, vr_i, old_i;
     bool fluid_i;
     real rho_i, diffusion_coef, visc_coef, laminar_coef;
@@ -120,15 +120,28 @@ SPH_HD real3 listed_separation(const real4& pi, const real4& pj, int3v ci, int3v
 }
 
 // Returns (acceleration, d rho / dt) of particle i, visiting candidates cell by cell.
+// Where the inputs give each cell's first fluid particle (in.fluid_begin: the CUDA backend), a
+// boundary particle visits only the fluid of each stencil cell: the same neighbours that add()
+// keeps, in the same order, without loading the walls around it (half of some scenes'
+// particles are walls, most of them far from water).
 template <class Kernel, class Search, bool Diffusion>
 SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p, const Kernel& kernel) {
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
     const real3 cs = in.grid.cell_size;
-    Search::visit(in.grid, in.cell_start, in.cell, in.grid.decode(in.cell[i]),
-                  [&](std::uint32_t j, int dx, int dy, int dz) {
-                      const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
-                      sums.add(j, rij, dot(rij, rij));
-                  });
+    const int3v c = in.grid.decode(in.cell[i]);
+    if (!sums.fluid_i && in.fluid_begin != nullptr) {
+        Search::template visit_ranges<true>(in.grid, in.cell_start, in.fluid_begin, c, [&](const CellRange& r) {
+            for (std::uint32_t j = r.begin; j < r.end; ++j) {
+                const real3 rij = separation(sums.pos_i, in.pos[j], r.dx, r.dy, r.dz, cs);
+                sums.add(j, rij, dot(rij, rij));
+            }
+        });
+    } else {
+        Search::visit(in.grid, in.cell_start, in.cell, c, [&](std::uint32_t j, int dx, int dy, int dz) {
+            const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
+            sums.add(j, rij, dot(rij, rij));
+        });
+    }
     return sums.result();
 }
 
