@@ -234,11 +234,13 @@ def readable_kernel_name(demangled):
 
 
 def cuobjdump_text(cuobjdump, env, flag, files):
-    proc = subprocess.run([cuobjdump, flag] + files, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                          env=env)
-    if proc.returncode != 0:
-        raise SetupError(f"cuobjdump {flag} failed:\n{proc.stderr[-2000:]}")
-    return proc.stdout
+    text = []
+    for f in files:  # cuobjdump reads one file a call
+        proc = subprocess.run([cuobjdump, flag, f], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+        if proc.returncode != 0:
+            raise SetupError(f"cuobjdump {flag} {f} failed:\n{proc.stderr[-2000:]}")
+        text.append(proc.stdout)
+    return "\n".join(text)
 
 
 def parse_resource_usage(text):
@@ -296,7 +298,8 @@ def measure_kernels(files, name_filter=None):
     rows, seen = [], {}
     for key in sorted(set(usage) | set(sass)):
         arch, mangled = key
-        demangled = names.get(mangled, mangled)
+        # Kernels return void; a template's demangled name spells its return type out.
+        demangled = re.sub(r"^void ", "", names.get(mangled, mangled))
         if name_filter and not name_filter(demangled):
             continue
         subject = f"{arch} {readable_kernel_name(demangled)}"
@@ -313,8 +316,9 @@ def measure_kernels(files, name_filter=None):
 
 
 def cuda_objects(build):
-    """The CUDA objects a build compiled (CMake names them *.cu.o); empty for a host-only build."""
-    return sorted(glob.glob(os.path.join(build, "**", "*.cu.o"), recursive=True))
+    """The solver's CUDA objects in a build (CMake names them *.cu.o); none in a host-only build.
+    Only solver/: the tests' probe objects (tests/perf_check) hold injected costs."""
+    return sorted(glob.glob(os.path.join(build, "solver", "**", "*.cu.o"), recursive=True))
 
 
 def compiler_versions(build):
