@@ -33,11 +33,11 @@ import tempfile
 
 EXIT_OK, EXIT_REGRESSION, EXIT_SETUP, EXIT_NOTHING_COMPARABLE = 0, 1, 2, 3
 
-# Instruction counts: callgrind counts are exact for a given binary and input; what moves them
-# between runs of one build is the OpenMP runtime and allocator paths, which the solver's own
-# functions barely touch. Measured spread between repeats of one build: see README
-# ("What CI holds"); 0.5% is more than 10x that and well under a per-pair change that matters
-# (an extra division is about 1.7% of the pair loop, 10% more pair work about 11%).
+# Instruction counts: with one OpenMP thread, 5 callgrind runs of one build (different
+# environment sizes and working folders) gave identical counts; a host-only and a CUDA build of
+# one commit differ by 1e-6. The tolerance is left for what one machine cannot show (glibc picks
+# string functions by CPU, and the step calls some) and stays under what matters: one more
+# division in the pair body is +0.9% to +1.2% of the force loop, 10% more pair work about +11%.
 INSTRUCTION_TOLERANCE = 0.005
 # SASS size: a few percent, so that reordering by a new compiler heuristic does not fail CI
 # while a new code path (a slow-path call site, an unrolled loop) does.
