@@ -10,7 +10,7 @@ BUILD_F64 ?= build-f64
 PYTHON ?= python3
 
 .PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl \
-        table-vl perf-check stability skip-bench accuracy clean
+        table-vl perf-check perf-accept stability skip-bench accuracy clean
 
 all: build
 
@@ -58,9 +58,19 @@ accuracy: build build-float64
 	$(SPHBENCH) run experiments/accuracy.toml --float64-binary $(BUILD_F64)/harness/sphbench
 	$(PYTHON) plots/accuracy.py
 
+# What CI can hold without a GPU (README, "What CI holds"): the work counters of a small suite,
+# exactly; instructions the host backend executes on fixed scenes (callgrind); and each CUDA
+# kernel's registers, spills, shared memory and SASS, read from $(BUILD)'s CUDA objects
+# (skipped, and said so, in a build without nvcc). `make perf-accept` rewrites the last two
+# references after an intended change, so that it shows in the commit's diff.
+PERF_REFERENCE := results/reference/host
 perf-check: build
 	$(SPHBENCH) run experiments/perf-smoke.toml --backend host --out results/perf-check --force
 	$(SPHBENCH) compare results/reference/host/perf-smoke results/perf-check/perf-smoke --metrics counters
+	$(PYTHON) tools/perf_check.py check --build $(BUILD) --reference $(PERF_REFERENCE) --out results/perf-check/host
+
+perf-accept: build
+	$(PYTHON) tools/perf_check.py accept --build $(BUILD) --reference $(PERF_REFERENCE)
 
 # Stability studies (experiments/stability-*.toml, `sphbench stability`): CFL limits, still
 # water, impacts, the armadillo collapse; on the host at a reduced scale, a few minutes.
