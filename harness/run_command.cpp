@@ -153,6 +153,7 @@ void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
 
 void run_spec(const RunArgs& a, CommandContext& ctx) {
     const ExperimentSpec spec = load_spec(a.spec);
+    check_output_folder("--out", experiment_dir(a.out, spec));
     if (spec.stability)
         throw InputError("experiment spec '" + spec.path + "' is a stability study ([stability]); run it with `sphbench stability " +
                          spec.path + "`");
@@ -244,9 +245,9 @@ void add_run_command(CLI::App& app, CommandContext& ctx) {
                     "override key=value in every run (repeatable): a solver key (" + solver_keys +
                         "), set.<scene option>, steps, warmup or repetitions");
     cmd->add_option("--scale", a->scale, "multiply every particle count by F (dp by F^(-1/3))")
-        ->check(CLI::PositiveNumber);
+        ->check(in_range(number_above(0)));
     cmd->add_option("--backend", a->backend, "cuda, host or auto (default: the spec's, else auto)")
-        ->check(CLI::IsMember({"auto", "cuda", "host"}));
+        ->check(setting_validator("backend"));
     cmd->add_option("--out", a->out, "results folder; the experiment writes into DIR/<name>/")->capture_default_str();
     cmd->add_option("--only", a->only, "run only this run id (repeatable); the table then holds only these");
     cmd->add_option("--float64-binary", a->float64_binary,
