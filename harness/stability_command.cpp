@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "csv_table.hpp"
 #include "experiment_runner.hpp"
+#include "result_freshness.hpp"
 #include "io/csv_writer.hpp"
 #include "stability_probe.hpp"
 
@@ -190,20 +191,10 @@ void run_study(const StabilityArgs& a, CommandContext& ctx) {
 
     const std::string dir = experiment_dir(a.out, spec);
     const std::string summary = (fs::path(dir) / "summary.csv").string();
-    if (!a.force && fs::exists(summary)) {
-        const Metadata old = read_csv_metadata(summary);
-        bool same = true;
-        for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend"}) {
-            std::string was, now;
-            for (const auto& [k, v] : old) was = k == key ? v : was;
-            for (const auto& [k, v] : meta) now = k == key ? v : now;
-            same = same && was == now;
-        }
-        if (same) {
-            std::printf("%s: up to date (use --force to run again)\n", spec.name.c_str());
-            ctx.exit_code = exit_ok;
-            return;
-        }
+    if (!a.force && results_up_to_date(summary, meta)) {
+        std::printf("%s: up to date (use --force to run again)\n", spec.name.c_str());
+        ctx.exit_code = exit_ok;
+        return;
     }
     fs::create_directories(dir);
     fs::remove(summary);  // only a finished study has one
