@@ -1,73 +1,117 @@
 #include "cli_options.hpp"
 
+#include <filesystem>
+
 #include "core/error.hpp"
-#include "multi/particle_transport.hpp"
 
 namespace sph {
 
-void add_solver_options(CLI::App& cmd, SolverCli& o) {
-    cmd.add_option("--backend", o.backend, "where to run: cuda, host, or auto (CUDA when a GPU is present)")
-        ->check(CLI::IsMember({"auto", "cuda", "host"}))
-        ->capture_default_str();
-    cmd.add_option("--device", o.device, "GPU index for the CUDA backend")->capture_default_str();
-    cmd.add_option("--devices", o.devices,
-                   "subdomains (X slabs, one per logical device): on N GPUs, on one GPU, or on the host")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    cmd.add_option("--device-map", o.device_map, "GPU of each subdomain, e.g. --device-map 0 1 (default: d mod GPUs)");
-    cmd.add_option("--balancer", o.balancer, "load balancing: none, simple, every:K or threshold (paper 5.2)")
-        ->capture_default_str();
-    cmd.add_option("--transport", o.transport,
-                   "how particles travel between subdomains: auto, host, peer (GPU to GPU), staged (through host "
-                   "memory) or nccl")
-        ->check(CLI::IsMember({"auto", "host", "peer", "staged", "nccl"}))
-        ->capture_default_str();
-    cmd.add_option("--cells-per-support", o.cells_per_support,
-                   "Smaller Cell's n: cell size = support radius / n (1 to 4)")
-        ->check(CLI::Range(1, 4))
-        ->capture_default_str();
-    cmd.add_flag("--merge", o.merge, "Cell Merging: search z-runs of cells as one range");
-    cmd.add_option("--fixed-dt", o.fixed_dt, "fixed time step in seconds (benchmarks); default: CFL-limited")
-        ->check(CLI::PositiveNumber);
-    cmd.add_option("--cfl", o.cfl, "CFL number (default: the scene's, 0.2)")->check(CLI::Range(1e-4, 1.0));
-    cmd.add_flag("--no-diffusion", o.no_diffusion, "compile out delta-SPH density diffusion");
-    cmd.add_flag("--verlet", o.verlet, "Verlet lists: store neighbour lists and reuse them between rebuilds");
-    cmd.add_option("--skin", o.skin, "Verlet skin as a fraction of the support radius")
-        ->check(CLI::Range(0.0, 1.0))
-        ->capture_default_str();
-    cmd.add_option("--rebuild-every", o.rebuild_every,
-                   "rebuild Verlet lists every k steps (default: when particles may have moved half the skin)")
-        ->check(CLI::NonNegativeNumber);
+namespace fs = std::filesystem;
+
+CLI::Validator in_range(const ValueRange& range) {
+    // CLI11 puts the flag's name in front of what a check returns.
+    return CLI::Validator(
+        [range](std::string& text) -> std::string {
+            try {
+                text = range.check("", text);
+                return "";
+            } catch (const InputError& e) {
+                const std::string m = e.what();
+                return m.rfind(": ", 0) == 0 ? m.substr(2) : m;
+            }
+        },
+        range.describe());
+}
+
+CLI::Validator setting_validator(const std::string& key) {
+    const SolverSetting* s = find_solver_setting(key);
+    if (!s) throw std::logic_error("no solver setting '" + key + "'");
+    // The table's own check, so that the message is the spec's; CLI11 puts the flag in front.
+    return CLI::Validator(
+        [key](std::string& text) -> std::string {
+            try {
+                text = check_solver_value(key, text, key);
+                return "";
+            } catch (const InputError& e) {
+                const std::string m = e.what();
+                return m.rfind(key + ": ", 0) == 0 ? m.substr(key.size() + 2) : m;
+            }
+        },
+        describe_allowed(*s));
+}
+
+void add_solver_options(CLI::App& cmd, SettingMap& given) {
+    for (const SolverSetting& s : solver_settings_table()) {
+        if (!s.on_command_line) continue;
+        const std::string key = s.key, flag = setting_flag(s);
+        if (s.kind == SettingKind::boolean) {
+            const bool off_switch = std::string(s.fallback) == "true";
+            const std::string value = off_switch ? "false" : "true";
+            cmd.add_flag_callback(flag, [&given, key, value] { given[key] = value; },
+                                  off_switch ? "without " + std::string(s.help) : std::string(s.help));
+            continue;
+        }
+        // A default outside the range (fixed_dt's and cfl's 0) means "absent"; the help says what then.
+        bool default_shown = *s.fallback != '\0';
+        try {
+            check_solver_value(key, s.fallback);
+        } catch (const InputError&) {
+            default_shown = false;
+        }
+        const std::string help = std::string(s.help) + (default_shown ? " (default: " + std::string(s.fallback) + ")" : "");
+        const char* type = s.kind == SettingKind::integer || s.kind == SettingKind::integer_list ? "INT"
+                           : s.kind == SettingKind::number                                         ? "FLOAT"
+                                                                                                   : "TEXT";
+        const CLI::Validator check = setting_validator(key);
+        if (s.kind == SettingKind::integer_list) {
+            cmd.add_option_function<std::vector<std::string>>(
+                   flag,
+                   [&given, key](const std::vector<std::string>& items) {
+                       std::string joined;
+                       for (const auto& i : items) joined += (joined.empty() ? "" : ",") + i;
+                       given[key] = joined;
+                   },
+                   help)
+                ->check(check)
+                ->type_name(type);
+        } else {
+            cmd.add_option_function<std::string>(
+                   flag, [&given, key](const std::string& v) { given[key] = v; }, help)
+                ->check(check)
+                ->type_name(type);
+        }
+    }
 }
 
 std::string backend_name(BackendKind b) { return b == BackendKind::cuda ? "cuda" : "host"; }
 
-SolverOptions solver_options(const SolverCli& o) {
-    SolverOptions s;
-    if (o.backend == "cuda") s.backend = BackendKind::cuda;
-    else if (o.backend == "host") s.backend = BackendKind::host;
-    else s.backend = cuda_backend_available() ? BackendKind::cuda : BackendKind::host;
-    s.device = o.device;
-    s.search.cells_per_support = o.cells_per_support;
-    s.search.merge = o.merge;
-    s.fixed_dt = o.fixed_dt;
-    s.cfl = o.cfl;
-    s.diffusion = !o.no_diffusion;
-    s.search.verlet = o.verlet;
-    s.search.skin = o.skin;
-    s.search.rebuild_every = o.rebuild_every;
-    s.subdomains = o.devices;
-    s.device_map = o.device_map;
-    s.balancer = o.balancer;
-    s.transport = parse_transport(o.transport);
+SolverOptions solver_options(const SettingMap& given) {
+    const SettingMap complete = complete_solver_settings(given);
+    const bool cuda_wanted = complete.at("backend") != "host";
+    SolverOptions s = to_solver_options(complete, cuda_wanted && cuda_backend_available());
     if (s.backend == BackendKind::cuda) {
         const int gpus = cuda_device_count();
         for (int g : s.device_map)
             if (g < 0 || g >= gpus)
-                throw InputError("the device map names GPU " + std::to_string(g) + ", but this machine has " +
+                throw InputError("--device-map: GPU " + std::to_string(g) + " is not on this machine, which has " +
                                  std::to_string(gpus) + " GPU(s)");
     }
     return s;
+}
+
+void check_output_folder(const std::string& flag, const std::string& path) {
+    std::error_code ec;
+    fs::path p = fs::path(path).lexically_normal();
+    if (p.empty()) p = ".";
+    for (fs::path at = p; !at.empty(); at = at.parent_path()) {
+        if (fs::exists(at, ec)) {
+            if (fs::is_directory(at, ec)) return;
+            if (at == p) throw InputError(flag + ": '" + path + "' is a file, not a folder for results");
+            throw InputError(flag + ": '" + path + "' cannot be a folder for results, because '" + at.string() +
+                             "' is a file");
+        }
+        if (at == at.parent_path()) break;
+    }
 }
 
 std::map<std::string, std::string> parse_settings(const std::vector<std::string>& pairs) {
@@ -75,7 +119,7 @@ std::map<std::string, std::string> parse_settings(const std::vector<std::string>
     for (const auto& p : pairs) {
         const auto eq = p.find('=');
         if (eq == std::string::npos || eq == 0)
-            throw InputError("setting '" + p + "' is not of the form key=value");
+            throw InputError("--set: '" + p + "' is not of the form key=value");
         out[p.substr(0, eq)] = p.substr(eq + 1);
     }
     return out;

@@ -1,5 +1,6 @@
 #pragma once
-// Options shared by the commands that run the solver: backend, device, search strategy.
+// Command-line flags made from the solver settings table (solver_settings.hpp), and the
+// checks every command shares: numeric flags, output folders, key=value pairs.
 #include <map>
 #include <string>
 #include <vector>
@@ -7,30 +8,28 @@
 #include <CLI/CLI.hpp>
 
 #include "simulation.hpp"
+#include "solver_settings.hpp"
 
 namespace sph {
 
-struct SolverCli {
-    std::string backend = "auto";
-    int device = 0;
-    int cells_per_support = 1;
-    bool merge = false;
-    double fixed_dt = 0;
-    double cfl = 0;
-    bool no_diffusion = false;
-    bool verlet = false;
-    double skin = 0.1;
-    int rebuild_every = 0;
-    int devices = 1;
-    std::vector<int> device_map;
-    std::string balancer = "none";
-    std::string transport = "auto";
-};
-
-void add_solver_options(CLI::App& cmd, SolverCli& o);
-// "auto" means CUDA when a GPU is present, else the host.
-SolverOptions solver_options(const SolverCli& o);
+// One flag per setting of the table that applies on the command line; each value given is
+// checked as the spec's key is and stored, in its normal form, in `given` under the key.
+void add_solver_options(CLI::App& cmd, SettingMap& given);
+// The given settings completed with the defaults; "auto" means CUDA when a GPU is present.
+// Throws InputError when the device map names a GPU this machine lacks.
+SolverOptions solver_options(const SettingMap& given);
 std::string backend_name(BackendKind b);
+
+// A CLI11 check that words its refusal as the spec keys' checks do ("--steps: ...").
+CLI::Validator in_range(const ValueRange& range);
+
+// A CLI11 check of a flag that takes the values of the setting `key` (as `--backend` does).
+CLI::Validator setting_validator(const std::string& key);
+
+// Throws InputError before any work starts when `path` (given by `flag`) cannot be an output
+// folder: it, or the nearest part of it that exists, is not a folder.
+void check_output_folder(const std::string& flag, const std::string& path);
+
 // Parses key=value pairs; throws InputError naming the malformed one.
 std::map<std::string, std::string> parse_settings(const std::vector<std::string>& pairs);
 

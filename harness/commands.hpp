@@ -17,6 +17,9 @@ void add_list_command(CLI::App& app, CommandContext& ctx);
 void add_compare_command(CLI::App& app, CommandContext& ctx);
 void add_stability_command(CLI::App& app, CommandContext& ctx);
 
+// Throws InputError naming argv[1] when it is neither an option nor a subcommand of `app`.
+void check_subcommand(CLI::App& app, int argc, char** argv);
+
 // Exit codes of every command.
 constexpr int exit_ok = 0;
 constexpr int exit_regression = 1;

@@ -12,12 +12,7 @@ namespace sph {
 namespace {
 
 long parse_count(const std::string& key, const std::string& text, long lo) {
-    char* end = nullptr;
-    const long long v = std::strtoll(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || v < lo)
-        throw InputError("--set " + key + " must be an integer of at least " + std::to_string(lo) + ", got '" +
-                         text + "'");
-    return long(v);
+    return std::stol(whole_from(double(lo)).check("--set " + key, text));
 }
 
 // Particle counts scale with `scale`; a lattice spacing with its inverse cube root.
@@ -61,8 +56,8 @@ std::string short_key(const std::string& key) { return key.rfind("set.", 0) == 0
 }  // namespace
 
 std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& options) {
-    if (!(options.scale > 0)) throw InputError("--scale must be greater than 0");
-    if (!options.backend.empty()) check_solver_value("backend", options.backend);
+    number_above(0).check("--scale", format_number(options.scale));
+    if (!options.backend.empty()) check_solver_value("backend", options.backend, "--backend");
 
     // Overrides: solver keys, scene options, or the run counts. A swept key that is
     // overridden is no longer swept.
@@ -71,7 +66,7 @@ std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& 
     bool steps_overridden = false;
     std::set<std::string> overridden;
     for (const auto& [key, value] : options.overrides) {
-        if (is_solver_setting(key)) solver_over[key] = check_solver_value(key, value);
+        if (is_solver_setting(key)) solver_over[key] = check_solver_value(key, value, "--set " + key);
         else if (key.rfind("set.", 0) == 0 && key.size() > 4) scene_over[key.substr(4)] = value;
         else if (key == "steps") steps = parse_count(key, value, 1), steps_overridden = true;
         else if (key == "warmup") warmup = parse_count(key, value, 0);

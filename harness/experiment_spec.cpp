@@ -64,7 +64,7 @@ public:
         }
         if (!n->is_integer()) fail(n->source(), "'" + key + "' must be an integer, not " + type_name(*n));
         const long long v = n->value<long long>().value();
-        if (v < lo) fail(n->source(), "'" + key + "' = " + std::to_string(v) + " must be at least " + std::to_string(lo));
+        if (lo > LLONG_MIN) check_value(*n, key, whole_from(double(lo)), std::to_string(v));
         return v;
     }
 
@@ -73,8 +73,17 @@ public:
         if (!n) return fallback;
         if (!n->is_number()) fail(n->source(), "'" + key + "' must be a number, not " + type_name(*n));
         const double v = n->value<double>().value();
-        if (!(v > lo_exclusive)) fail(n->source(), "'" + key + "' must be greater than " + format_number(lo_exclusive));
+        check_value(*n, key, number_above(lo_exclusive), format_number(v));
         return v;
+    }
+
+    // The refusal of a value out of its range, worded as the command line words it.
+    void check_value(const toml::node& n, const std::string& key, const ValueRange& range, const std::string& text) const {
+        try {
+            range.check(key, text);
+        } catch (const InputError& e) {
+            fail(n.source(), e.what());
+        }
     }
 
     // A solver setting as validated text.
@@ -97,6 +106,15 @@ public:
             if (!n.is_boolean()) fail(n.source(), "'" + key + "' must be true or false, not " + type_name(n));
             text = n.value<bool>().value() ? "true" : "false";
             break;
+        case SettingKind::integer_list: {
+            const toml::array* items = n.as_array();
+            if (!items) fail(n.source(), "'" + key + "' must be an array of integers, not " + type_name(n));
+            for (const auto& item : *items) {
+                if (!item.is_integer()) fail(item.source(), "'" + key + "' must be an array of integers, and " + type_name(item) + " is not one");
+                text += (text.empty() ? "" : ",") + std::to_string(item.value<long long>().value());
+            }
+            break;
+        }
         }
         try {
             return check_solver_value(key, text);

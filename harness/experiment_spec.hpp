@@ -11,20 +11,24 @@
 //   record = ["summary", "steps"]      # optional; any of summary, steps, snapshots,
 //                                      #   counters-every-step (runs.csv is always written)
 //   snapshot_every = 0                 # HDF5 snapshot every K steps; needs "snapshots"
-//   [solver]                           # optional defaults for every run:
+//   [solver]                           # optional defaults for every run; the keys, their
+//                                      #   ranges and defaults are the table of solver_settings.cpp,
+//                                      #   which makes the `simulate` flags too (--cells-per-support):
 //     backend = "auto"                 #   "auto", "cuda" or "host"
 //     devices = 1                      #   X-slab subdomains (1..1024), on N GPUs, one, or the host
-//     device = 0                       #   GPU of a one-subdomain run
+//     gpu = 0                          #   GPU of a one-subdomain run (0..1023)
+//     device_map = [0, 1]              #   GPU of each subdomain; absent: subdomain d on GPU d mod GPUs
 //     balancer = "none"                #   "none", "simple", "every:K" or "threshold"
 //     transport = "auto"               #   "auto", "host", "peer", "staged" or "nccl"
 //     cells_per_support = 1            #   1..4 (Smaller Cell)
 //     merge = false                    #   Cell Merging
 //     verlet = false                   #   Verlet lists
-//     skin = 0.1                       #   Verlet skin, fraction of the support, (0, 10]
+//     skin = 0.1                       #   Verlet skin, fraction of the support, (0, 1]
 //     rebuild_every = 0                #   Verlet rebuild every k steps; 0: on displacement
-//     fixed_dt = 1e-4                  #   > 0: fixed step; absent: CFL-limited
-//     cfl = 0.2                        #   (0, 1]
+//     fixed_dt = 1e-4                  #   (0, 1000] s: fixed step; absent: CFL-limited
+//     cfl = 0.2                        #   (0, 1]; absent: the scene's
 //     diffusion = true                 #   delta-SPH density diffusion
+//     precision = "float32"            #   "float32" or "float64" (specs only: a build property)
 //   [[runs]]                           # one or more
 //     scene = "armadillo"              #   required; a scene of `sphbench info`
 //     label = "armadillo-2980K"        #   optional; default: scene name and index

@@ -68,8 +68,8 @@ BuildInfo build_info() {
     return b;
 }
 
-std::string binary_hash() {
-    std::ifstream in("/proc/self/exe", std::ios::binary);
+std::string binary_hash(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
     if (!in) return "unknown";
     std::ostringstream bytes;
     bytes << in.rdbuf();

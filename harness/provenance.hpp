@@ -17,8 +17,9 @@ BuildInfo build_info();
 Metadata provenance(const std::string& backend, const std::string& devices, const std::string& command_line);
 
 std::string utc_now();
-// FNV-1a of this program's own bytes: results made by another binary are not up to date.
-std::string binary_hash();
+// FNV-1a of a program's bytes (by default this one's): results made by another binary are not
+// up to date. "unknown" when unreadable.
+std::string binary_hash(const std::string& path = "/proc/self/exe");
 std::string command_line_of(int argc, char** argv);
 
 }  // namespace sph

@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "csv_table.hpp"
 #include "experiment_runner.hpp"
+#include "result_freshness.hpp"
 #include "statistics.hpp"
 
 namespace sph {
@@ -37,14 +38,6 @@ constexpr long profile_steps = 20;
 constexpr double cuda_rate = 1e8;           // particle-steps per second, rough
 constexpr double host_rate_per_core = 1e6;  // particle-steps per second per core, rough
 
-std::string binary_hash(const std::string& path = "/proc/self/exe") {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return "unknown";
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
-    return fnv1a_hex(bytes.str());
-}
-
 // What the command line changed, in one line: part of what makes results up to date.
 std::string overrides_text(const RunArgs& a) {
     std::string s;
@@ -59,24 +52,6 @@ std::string backends_of(const std::vector<PlannedRun>& runs) {
     std::set<std::string> names;
     for (const auto& r : runs) names.insert(r.solver.backend == BackendKind::cuda ? "cuda" : "host");
     return names.size() == 1 ? *names.begin() : "mixed";
-}
-
-bool up_to_date(const std::string& runs_csv, const Metadata& now) {
-    if (!fs::exists(runs_csv)) return false;
-    Metadata old;
-    try {
-        old = read_csv_metadata(runs_csv);
-    } catch (const InputError&) {
-        return false;
-    }
-    auto value = [](const Metadata& m, const std::string& key) {
-        for (const auto& [k, v] : m)
-            if (k == key) return v;
-        return std::string("\x01missing");
-    };
-    for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend", "float64_binary_hash"})
-        if (value(old, key) != value(now, key)) return false;
-    return true;
 }
 
 // Particles of a run, boundary included, without building a large scene: a `particles`
@@ -153,6 +128,7 @@ void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
 
 void run_spec(const RunArgs& a, CommandContext& ctx) {
     const ExperimentSpec spec = load_spec(a.spec);
+    check_output_folder("--out", experiment_dir(a.out, spec));
     if (spec.stability)
         throw InputError("experiment spec '" + spec.path + "' is a stability study ([stability]); run it with `sphbench stability " +
                          spec.path + "`");
@@ -217,7 +193,7 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
     opt.delegated = delegated;
 
     const std::string runs_csv = (fs::path(experiment_dir(a.out, spec)) / "runs.csv").string();
-    if (!a.force && up_to_date(runs_csv, opt.metadata)) {
+    if (!a.force && results_up_to_date(runs_csv, opt.metadata)) {
         std::printf("%s: up to date (use --force to run again)\n", spec.name.c_str());
         ctx.exit_code = exit_ok;
         return;
@@ -244,9 +220,9 @@ void add_run_command(CLI::App& app, CommandContext& ctx) {
                     "override key=value in every run (repeatable): a solver key (" + solver_keys +
                         "), set.<scene option>, steps, warmup or repetitions");
     cmd->add_option("--scale", a->scale, "multiply every particle count by F (dp by F^(-1/3))")
-        ->check(CLI::PositiveNumber);
+        ->check(in_range(number_above(0)));
     cmd->add_option("--backend", a->backend, "cuda, host or auto (default: the spec's, else auto)")
-        ->check(CLI::IsMember({"auto", "cuda", "host"}));
+        ->check(setting_validator("backend"));
     cmd->add_option("--out", a->out, "results folder; the experiment writes into DIR/<name>/")->capture_default_str();
     cmd->add_option("--only", a->only, "run only this run id (repeatable); the table then holds only these");
     cmd->add_option("--float64-binary", a->float64_binary,

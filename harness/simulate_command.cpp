@@ -19,7 +19,7 @@ struct SimulateArgs {
     bool quiet = false;
     bool auto_search = false;
     double validate_every = 0, end_time = 0;
-    SolverCli solver;
+    SettingMap solver;  // the solver flags given, checked, by spec key
 };
 
 void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
@@ -62,12 +62,12 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     CLI::App* cmd = app.add_subcommand("simulate", "run one scene for N steps, show progress, report its speed");
     cmd->add_option("scene", args->scene, "scene name (see `sphbench info`)")->required();
     cmd->add_option("--set", args->settings, "scene option key=value (repeatable), e.g. particles=2980000");
-    cmd->add_option("--steps", args->steps, "steps to record")->check(CLI::PositiveNumber)->capture_default_str();
+    cmd->add_option("--steps", args->steps, "steps to record")->check(in_range(whole_from(1)))->capture_default_str();
     cmd->add_option("--warmup", args->warmup, "steps run first and not recorded")
-        ->check(CLI::NonNegativeNumber)
+        ->check(in_range(whole_from(0)))
         ->capture_default_str();
     cmd->add_option("--snapshot-every", args->snapshot_every, "write an HDF5 snapshot every K steps (0: none)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(in_range(whole_from(0)));
     cmd->add_option("--out", args->out, "output folder")->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "no progress line");
     cmd->add_flag("--auto-search", args->auto_search,
@@ -76,12 +76,13 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     auto* validate = cmd->add_option("--validate", args->validate_every,
                                      "evaluate the scene's validation metric every DT simulated seconds (dambreak: surge "
                                      "front against Martin and Moyce; tank: hydrostatic pressure) into SCENE_validation.csv")
-                         ->check(CLI::PositiveNumber);
+                         ->check(in_range(number_above(0)));
     cmd->add_option("--end-time", args->end_time, "stop at this simulated time (--steps is then a cap)")
-        ->check(CLI::PositiveNumber)
+        ->check(in_range(number_above(0)))
         ->needs(validate);
     add_solver_options(*cmd, args->solver);
     cmd->callback([args, &ctx] {
+        check_output_folder("--out", args->out);
         SceneRunRequest req;
         req.scene = args->scene;
         req.scene_options = parse_settings(args->settings);

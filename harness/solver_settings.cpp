@@ -13,48 +13,72 @@
 namespace sph {
 namespace {
 
-struct SettingInfo {
-    const char* key;
-    SettingKind kind;
-    const char* fallback;
-    double lo, hi;  // numbers: the allowed range (lo excluded for fixed_dt, cfl and skin)
-};
+void check_balancer(const std::string& text) { make_balancer(text); }  // throws naming the allowed forms
 
-const std::vector<SettingInfo>& settings() {
-    static const std::vector<SettingInfo> table = {
-        {"backend", SettingKind::text, "auto", 0, 0},
-        {"devices", SettingKind::integer, "1", 1, 1024},
-        {"gpu", SettingKind::integer, "0", 0, 1023},  // GPU of a one-subdomain run ("device" names the GPU in runs.csv)
-        {"balancer", SettingKind::text, "none", 0, 0},
-        {"transport", SettingKind::text, "auto", 0, 0},
-        {"cells_per_support", SettingKind::integer, "1", 1, 4},
-        {"merge", SettingKind::boolean, "false", 0, 0},
-        {"verlet", SettingKind::boolean, "false", 0, 0},
-        {"skin", SettingKind::number, "0.1", 0, 10},
-        {"rebuild_every", SettingKind::integer, "0", 0, 1e9},
-        {"fixed_dt", SettingKind::number, "0", 0, 1e3},
-        {"cfl", SettingKind::number, "0", 0, 1},
-        {"diffusion", SettingKind::boolean, "true", 0, 0},
-        {"precision", SettingKind::text, build_precision(), 0, 0},  // a build property: see build_precision()
+// Ranges: skin wider than the support grows the lists by (1 + skin)^3 for nothing, and a skin
+// of 0 would rebuild every step (verlet = false does that without the lists); fixed_dt and
+// cfl are "absent" at 0, so 0 itself is refused.
+const std::vector<SolverSetting>& settings() {
+    static const std::vector<SolverSetting> table = {
+        {"backend", SettingKind::text, "auto", {}, {"auto", "cuda", "host"}, nullptr,
+         "where to run: cuda, host, or auto (CUDA when a GPU is present)", true},
+        {"devices", SettingKind::integer, "1", whole_from(1, 1024), {}, nullptr,
+         "subdomains (X slabs, one per logical device): on N GPUs, on one GPU, or on the host", true},
+        {"gpu", SettingKind::integer, "0", whole_from(0, 1023), {}, nullptr,
+         "GPU index of a one-subdomain run on the CUDA backend", true},
+        {"device_map", SettingKind::integer_list, "", whole_from(0, 1023), {}, nullptr,
+         "GPU of each subdomain, e.g. 0,1 (default: subdomain d on GPU d mod GPUs)", true},
+        {"balancer", SettingKind::text, "none", {}, {}, check_balancer,
+         "load balancing: none, simple, every:K or threshold (paper 5.2)", true},
+        {"transport", SettingKind::text, "auto", {}, {"auto", "host", "peer", "staged", "nccl"}, nullptr,
+         "how particles travel between subdomains: auto, host, peer (GPU to GPU), staged (through host memory) or "
+         "nccl",
+         true},
+        {"cells_per_support", SettingKind::integer, "1", whole_from(1, 4), {}, nullptr,
+         "Smaller Cell's n: cell size = support radius / n", true},
+        {"merge", SettingKind::boolean, "false", {}, {}, nullptr, "Cell Merging: search z-runs of cells as one range",
+         true},
+        {"verlet", SettingKind::boolean, "false", {}, {}, nullptr,
+         "Verlet lists: store neighbour lists and reuse them between rebuilds", true},
+        {"skin", SettingKind::number, "0.1", number_above(0, 1), {}, nullptr,
+         "Verlet skin as a fraction of the support radius", true},
+        {"rebuild_every", SettingKind::integer, "0", whole_from(0, 1e9), {}, nullptr,
+         "rebuild Verlet lists every k steps (0: when particles may have moved half the skin)", true},
+        {"fixed_dt", SettingKind::number, "0", number_above(0, 1e3), {}, nullptr,
+         "fixed time step in seconds (benchmarks); default: CFL-limited", true},
+        {"cfl", SettingKind::number, "0", number_above(0, 1), {}, nullptr, "CFL number; default: the scene's, 0.2",
+         true},
+        {"diffusion", SettingKind::boolean, "true", {}, {}, nullptr, "delta-SPH density diffusion", true},
+        {"precision", SettingKind::text, build_precision(), {}, {"float32", "float64"}, nullptr,
+         "float32 or float64: fixed when sphbench is compiled, so a spec's float64 runs need a float64 build",
+         false},
     };
     return table;
 }
 
-const SettingInfo* find_setting(const std::string& key) {
+std::string quoted_list(const std::vector<std::string>& items) {
+    std::string out;
+    for (std::size_t i = 0; i < items.size(); ++i)
+        out += (i == 0 ? "" : i + 1 == items.size() ? " or " : ", ") + ("\"" + items[i] + "\"");
+    return out;
+}
+
+std::string list_element(const std::string& text, std::size_t& at) {
+    while (at < text.size() && (text[at] == ',' || text[at] == ' ')) ++at;
+    const std::size_t start = at;
+    while (at < text.size() && text[at] != ',' && text[at] != ' ') ++at;
+    return text.substr(start, at - start);
+}
+
+}  // namespace
+
+const std::vector<SolverSetting>& solver_settings_table() { return settings(); }
+
+const SolverSetting* find_solver_setting(const std::string& key) {
     for (const auto& s : settings())
         if (key == s.key) return &s;
     return nullptr;
 }
-
-double parse_number(const std::string& key, const std::string& text) {
-    char* end = nullptr;
-    const double v = std::strtod(text.c_str(), &end);
-    if (text.empty() || *end != '\0' || !std::isfinite(v))
-        throw InputError("'" + key + "' must be a number, got '" + text + "'");
-    return v;
-}
-
-}  // namespace
 
 const std::vector<std::string>& solver_setting_keys() {
     static const std::vector<std::string> keys = [] {
@@ -65,57 +89,68 @@ const std::vector<std::string>& solver_setting_keys() {
     return keys;
 }
 
-bool is_solver_setting(const std::string& key) { return find_setting(key) != nullptr; }
+bool is_solver_setting(const std::string& key) { return find_solver_setting(key) != nullptr; }
 
 SettingKind solver_setting_kind(const std::string& key) {
-    const SettingInfo* s = find_setting(key);
+    const SolverSetting* s = find_solver_setting(key);
     if (!s) throw InputError("unknown solver setting '" + key + "'");
     return s->kind;
 }
 
-std::string check_solver_value(const std::string& key, const std::string& text) {
-    const SettingInfo* info = find_setting(key);
+std::string setting_flag(const SolverSetting& s) {
+    std::string flag = s.key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    const bool off_switch = s.kind == SettingKind::boolean && std::string(s.fallback) == "true";
+    return (off_switch ? "--no-" : "--") + flag;
+}
+
+std::string describe_allowed(const SolverSetting& s) {
+    switch (s.kind) {
+    case SettingKind::boolean: return "true or false";
+    case SettingKind::integer_list: return "a list, each " + s.range.describe();
+    case SettingKind::integer:
+    case SettingKind::number: return s.range.describe();
+    case SettingKind::text: break;
+    }
+    return s.choices.empty() ? std::string() : "one of " + quoted_list(s.choices);  // else: its own check's words
+}
+
+std::string check_solver_value(const std::string& key, const std::string& text, const std::string& given_name) {
+    const SolverSetting* info = find_solver_setting(key);
     if (!info) throw InputError("unknown solver setting '" + key + "'");
-    if (key == "backend") {
-        if (text != "auto" && text != "cuda" && text != "host")
-            throw InputError("'backend' must be \"auto\", \"cuda\" or \"host\", got '" + text + "'");
+    const std::string name = given_name.empty() ? key : given_name;
+    switch (info->kind) {
+    case SettingKind::text:
+        if (!info->choices.empty() &&
+            std::find(info->choices.begin(), info->choices.end(), text) == info->choices.end())
+            throw InputError(name + ": '" + text + "' is not " + describe_allowed(*info));
+        if (info->check_text) {
+            try {
+                info->check_text(text);
+            } catch (const InputError& e) {
+                throw InputError(name + ": " + e.what());
+            }
+        }
         return text;
-    }
-    if (key == "precision") {
-        if (text != "float32" && text != "float64")
-            throw InputError("'precision' must be \"float32\" or \"float64\", got '" + text + "'");
-        return text;
-    }
-    if (key == "balancer") {
-        make_balancer(text);  // throws InputError naming the allowed forms
-        return text;
-    }
-    if (key == "transport") {
-        parse_transport(text);  // throws InputError naming the allowed values
-        return text;
-    }
-    if (info->kind == SettingKind::boolean) {
+    case SettingKind::boolean: {
         std::string t = text;
         std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return char(std::tolower(c)); });
         if (t == "true" || t == "1" || t == "yes" || t == "on") return "true";
         if (t == "false" || t == "0" || t == "no" || t == "off") return "false";
-        throw InputError("'" + key + "' must be true or false, got '" + text + "'");
+        throw InputError(name + ": '" + text + "' is not true or false");
     }
-    if (info->kind == SettingKind::integer) {
-        long long v = 0;
-        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (ec != std::errc() || end != text.data() + text.size())
-            throw InputError("'" + key + "' must be an integer, got '" + text + "'");
-        if (double(v) < info->lo || double(v) > info->hi)
-            throw InputError("'" + key + "' = " + text + " is outside its range " + format_number(info->lo) + " to " +
-                             format_number(info->hi));
-        return std::to_string(v);
+    case SettingKind::integer_list: {
+        std::string out;
+        for (std::size_t at = 0; at < text.size();) {
+            const std::string item = list_element(text, at);
+            if (!item.empty()) out += (out.empty() ? "" : ",") + info->range.check(name, item);
+        }
+        return out;
     }
-    const double v = parse_number(key, text);
-    if (!(v > info->lo && v <= info->hi))
-        throw InputError("'" + key + "' = " + text + " is outside its range (" + format_number(info->lo) + ", " +
-                         format_number(info->hi) + "]");
-    return format_number(v);
+    case SettingKind::integer:
+    case SettingKind::number: break;
+    }
+    return info->range.check(name, text);
 }
 
 SettingMap complete_solver_settings(const SettingMap& given) {
@@ -133,6 +168,14 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
     o.backend = backend == "cuda" || (backend == "auto" && gpu_available) ? BackendKind::cuda : BackendKind::host;
     o.subdomains = std::stoi(c.at("devices"));
     o.device = std::stoi(c.at("gpu"));
+    const std::string& map = c.at("device_map");
+    for (std::size_t at = 0; at < map.size();) {
+        const std::string item = list_element(map, at);
+        if (!item.empty()) o.device_map.push_back(std::stoi(item));
+    }
+    if (!o.device_map.empty() && int(o.device_map.size()) != o.subdomains)
+        throw InputError("device_map: '" + map + "' names " + std::to_string(o.device_map.size()) + " GPU(s) for " +
+                         std::to_string(o.subdomains) + " subdomain(s) (allowed: one GPU per subdomain)");
     o.balancer = c.at("balancer");
     o.transport = parse_transport(c.at("transport"));
     o.search.cells_per_support = std::stoi(c.at("cells_per_support"));
@@ -152,13 +195,6 @@ const char* build_precision() {
 #else
     return "float32";
 #endif
-}
-
-std::string format_number(double value) {
-    char buf[64];
-    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, value);
-    if (ec != std::errc()) return "nan";
-    return std::string(buf, end);
 }
 
 std::string filename_safe(const std::string& text) {

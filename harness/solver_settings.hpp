@@ -6,39 +6,60 @@
 #include <vector>
 
 #include "simulation.hpp"
+#include "value_range.hpp"
 
 namespace sph {
 
 // Settings as validated text ("2", "true", "0.0001"), keyed by their spec names.
 using SettingMap = std::map<std::string, std::string>;
 
-enum class SettingKind { text, integer, number, boolean };
+enum class SettingKind { text, integer, number, boolean, integer_list };
 
-// backend, devices (X-slab subdomains), device (GPU of a one-subdomain run), balancer (none,
-// simple, every:K, threshold), transport (auto, host, peer, staged, nccl), cells_per_support (1..4), merge, verlet, skin (fraction of the
-// support), rebuild_every (0: on displacement), fixed_dt (0: CFL-limited), cfl (0: the
-// scene's), diffusion, precision (float32 or float64; default: this binary's): the column
-// order of runs.csv.
+// One solver setting: the spec key, the `simulate` flag and the `--set` key are all made from
+// it, so the command line and the specs cannot disagree on a name, a range or a default.
+struct SolverSetting {
+    const char* key;                   // spec key and runs.csv column
+    SettingKind kind;
+    const char* fallback;              // the default, as text
+    ValueRange range;                  // integer and number kinds (each element of a list)
+    std::vector<std::string> choices;  // text kinds with a fixed set of values
+    void (*check_text)(const std::string&);  // other text kinds: throws InputError
+    const char* help;
+    bool on_command_line;              // false: specs and `--set` only (precision is a build property)
+};
+
+// The table, in the column order of runs.csv: backend, devices (X-slab subdomains), gpu (GPU
+// of a one-subdomain run), device_map (GPU of each subdomain), balancer, transport,
+// cells_per_support, merge, verlet, skin, rebuild_every, fixed_dt (0: CFL-limited), cfl (0:
+// the scene's), diffusion, precision.
+const std::vector<SolverSetting>& solver_settings_table();
+const SolverSetting* find_solver_setting(const std::string& key);
+
 const std::vector<std::string>& solver_setting_keys();
 bool is_solver_setting(const std::string& key);
 SettingKind solver_setting_kind(const std::string& key);
 
+// The flag of a setting on the command line: "--cells-per-support"; booleans that are on by
+// default are turned off with "--no-KEY".
+std::string setting_flag(const SolverSetting& s);
+// What the setting accepts, as a user would write it: "a whole number from 1 to 4".
+std::string describe_allowed(const SolverSetting& s);
+
 // Checks a value given as text and returns its normal form ("yes" -> "true", "2.50" -> "2.5").
-// Throws InputError naming the key and the allowed values.
-std::string check_solver_value(const std::string& key, const std::string& text);
+// Throws InputError "NAME: VALUE ... (allowed: ...)"; NAME is the key unless given (a flag).
+std::string check_solver_value(const std::string& key, const std::string& text, const std::string& name = "");
 
 // Every solver key with its value: the given one, else the solver's default.
 SettingMap complete_solver_settings(const SettingMap& given);
 
-// "auto" resolves to CUDA when gpu_available, else the host.
+// "auto" resolves to CUDA when gpu_available, else the host. Throws InputError when the
+// device map does not give one GPU per subdomain.
 SolverOptions to_solver_options(const SettingMap& complete, bool gpu_available);
 
 // "float32", or "float64" in a build with -DSPH_DOUBLE=ON. Precision is fixed when the solver
 // is compiled, so a run asking for the other one needs the other build (precision_delegate.hpp).
 const char* build_precision();
 
-// Shortest text that reads back as the same double.
-std::string format_number(double value);
 // Letters, digits, '.', '_' and '-' kept; anything else becomes '-'.
 std::string filename_safe(const std::string& text);
 

@@ -1,5 +1,6 @@
 // sphbench: the project's one program. Subcommands run scenes, experiments and comparisons.
 #include <cstdio>
+#include <string>
 
 #include "commands.hpp"
 #include "core/error.hpp"
@@ -16,10 +17,14 @@ int main(int argc, char** argv) {
     sph::add_compare_command(app, ctx);
     sph::add_stability_command(app, ctx);
     try {
+        sph::check_subcommand(app, argc, argv);
         app.parse(argc, argv);
+    } catch (const CLI::Success& e) {
+        return app.exit(e);  // --help
     } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : sph::exit_usage;
+        // One line naming the flag and the value; CLI11's own exit() adds a second about --help.
+        std::fprintf(stderr, "sphbench: %s\n", e.what());
+        return sph::exit_usage;
     } catch (const sph::InputError& e) {
         std::fprintf(stderr, "sphbench: %s\n", e.what());
         return sph::exit_usage;

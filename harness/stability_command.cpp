@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "csv_table.hpp"
 #include "experiment_runner.hpp"
+#include "result_freshness.hpp"
 #include "io/csv_writer.hpp"
 #include "stability_probe.hpp"
 
@@ -151,6 +152,7 @@ void energy_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
 
 void run_study(const StabilityArgs& a, CommandContext& ctx) {
     const ExperimentSpec spec = load_spec(a.spec);
+    check_output_folder("--out", experiment_dir(a.out, spec));
     if (!spec.stability)
         throw InputError("experiment spec '" + spec.path + "' has no [stability] table; run it with `sphbench run`");
     ExpandOptions ex;
@@ -189,20 +191,10 @@ void run_study(const StabilityArgs& a, CommandContext& ctx) {
 
     const std::string dir = experiment_dir(a.out, spec);
     const std::string summary = (fs::path(dir) / "summary.csv").string();
-    if (!a.force && fs::exists(summary)) {
-        const Metadata old = read_csv_metadata(summary);
-        bool same = true;
-        for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend"}) {
-            std::string was, now;
-            for (const auto& [k, v] : old) was = k == key ? v : was;
-            for (const auto& [k, v] : meta) now = k == key ? v : now;
-            same = same && was == now;
-        }
-        if (same) {
-            std::printf("%s: up to date (use --force to run again)\n", spec.name.c_str());
-            ctx.exit_code = exit_ok;
-            return;
-        }
+    if (!a.force && results_up_to_date(summary, meta)) {
+        std::printf("%s: up to date (use --force to run again)\n", spec.name.c_str());
+        ctx.exit_code = exit_ok;
+        return;
     }
     fs::create_directories(dir);
     fs::remove(summary);  // only a finished study has one
@@ -222,9 +214,9 @@ void add_stability_command(CLI::App& app, CommandContext& ctx) {
     cmd->add_option("spec", a->spec, "stability spec, e.g. experiments/stability-cfl.toml")->required();
     cmd->add_option("--set", a->settings, "override key=value in every run (repeatable), as for `sphbench run`");
     cmd->add_option("--scale", a->scale, "multiply every particle count by F (dp by F^(-1/3))")
-        ->check(CLI::PositiveNumber);
+        ->check(in_range(number_above(0)));
     cmd->add_option("--backend", a->backend, "cuda, host or auto (default: the spec's, else auto)")
-        ->check(CLI::IsMember({"auto", "cuda", "host"}));
+        ->check(setting_validator("backend"));
     cmd->add_option("--out", a->out, "results folder; the study writes into DIR/<name>/")->capture_default_str();
     cmd->add_flag("--force", a->force, "run even when the results are up to date");
     cmd->add_flag("--quiet", a->quiet, "no progress line");

@@ -52,11 +52,10 @@ inline long first_above(double x0, double h, long n, double c) {
     return t;
 }
 
-}  // namespace
-
-MeshInsideTest::MeshInsideTest(const TriangleMesh& mesh) {
+std::vector<std::array<double, 9>> finite_triangles(const TriangleMesh& mesh) {
     const long nv = static_cast<long>(mesh.vertices.size());
-    tri_.reserve(mesh.triangles.size());
+    std::vector<std::array<double, 9>> tri;
+    tri.reserve(mesh.triangles.size());
     for (const auto& t : mesh.triangles) {
         std::array<double, 9> c{};
         for (int k = 0; k < 3; ++k) {
@@ -64,9 +63,23 @@ MeshInsideTest::MeshInsideTest(const TriangleMesh& mesh) {
             const Vec3d& v = mesh.vertices[t[k]];
             c[3 * k] = v.x, c[3 * k + 1] = v.y, c[3 * k + 2] = v.z;
         }
-        if (std::all_of(c.begin(), c.end(), [](double x) { return std::isfinite(x); })) tri_.push_back(c);
+        if (std::all_of(c.begin(), c.end(), [](double x) { return std::isfinite(x); })) tri.push_back(c);
     }
+    return tri;
+}
 
+// Six times the signed volume (sum of tetrahedra to the origin): its sign is the orientation.
+double signed_volume6(const std::vector<std::array<double, 9>>& tri) {
+    double v = 0;
+    for (const auto& c : tri)
+        v += c[0] * (c[4] * c[8] - c[5] * c[7]) - c[1] * (c[3] * c[8] - c[5] * c[6]) + c[2] * (c[3] * c[7] - c[4] * c[6]);
+    return v;
+}
+
+}  // namespace
+
+MeshInsideTest::MeshInsideTest(const TriangleMesh& mesh)
+    : tri_(finite_triangles(mesh)), winding_(tri_), orientation_(signed_volume6(tri_) < 0 ? -1.0 : 1.0) {
     for (int a = 0; a < 3; ++a) {
         const int u = (a + 1) % 3, v = (a + 2) % 3;
         AxisGrid& g = grid_[a];
@@ -138,16 +151,36 @@ void MeshInsideTest::crossings(int a, double pu, double pv, std::vector<double>&
     }
 }
 
+bool MeshInsideTest::inside_by_winding(Vec3d p) const {
+    // The far field as dipoles is good to a few percent; near 1/2 it is summed exactly.
+    const double w = orientation_ * winding_.at(p);
+    if (std::fabs(w - 0.5) > 0.2) return w > 0.5;
+    return orientation_ * winding_.at(p, 0.0) > 0.5;
+}
+
+bool MeshInsideTest::decide(unsigned rays, Vec3d p) const {
+    const unsigned in = rays & 7u, odd = rays >> 3 & 7u;
+    if (odd == 0 && (in == 0 || in == 7)) return in == 7;  // all of a closed mesh's points
+    // Lines with an even count are likely right, but two holes on one line (or facing holes
+    // across a tunnel) fool them as they fool the winding number: inside needs both.
+    int even_in = 0, even_out = 0;
+    for (int a = 0; a < 3; ++a)
+        if (!(odd >> a & 1u)) ++((in >> a & 1u) ? even_in : even_out);
+    if (even_out > even_in) return false;
+    return inside_by_winding(p);
+}
+
 bool MeshInsideTest::contains(Vec3d p) const {
     std::vector<double> c;
-    int votes = 0;
+    unsigned rays = 0;
     for (int a = 0; a < 3; ++a) {
         const double x = coord(p, a);
         crossings(a, coord(p, (a + 1) % 3), coord(p, (a + 2) % 3), c);
+        if (c.size() & 1) rays |= 8u << a;
         // Parity of crossings before x (a ray to -infinity), as in lattice_inside.
-        votes += static_cast<int>(std::count_if(c.begin(), c.end(), [x](double q) { return q < x; }) & 1);
+        if (std::count_if(c.begin(), c.end(), [x](double q) { return q < x; }) & 1) rays |= 1u << a;
     }
-    return votes >= 2;
+    return decide(rays, p);
 }
 
 std::vector<uint8_t> MeshInsideTest::lattice_inside(Vec3d origin, double spacing, int nx, int ny, int nz) const {
@@ -157,8 +190,9 @@ std::vector<uint8_t> MeshInsideTest::lattice_inside(Vec3d origin, double spacing
     const size_t stride[3] = {static_cast<size_t>(ny) * nz, static_cast<size_t>(nz), 1};
     const double o[3] = {origin.x, origin.y, origin.z};
     const double h = spacing;
-    // Per point: how many of the three axis rays found it inside (each pass writes each point
-    // at most once and lines are disjoint, so the parallel passes need no synchronisation).
+    // Per point and axis a: bit a when that axis's ray found it inside, bit 3 + a when the line
+    // crossed the mesh an odd number of times (each pass writes each point at most once per
+    // bit and lines are disjoint, so the parallel passes need no synchronisation).
     std::vector<uint8_t> votes(static_cast<size_t>(nx) * ny * nz, 0);
     if (votes.empty()) return votes;
 
@@ -181,16 +215,30 @@ std::vector<uint8_t> MeshInsideTest::lattice_inside(Vec3d origin, double spacing
                 std::sort(c.begin(), c.end());
                 const size_t base = static_cast<size_t>(ju) * stride[u] + static_cast<size_t>(jv) * stride[v];
                 // Inside where an odd number of crossings lie below: (c0, c1], (c2, c3], ...
-                // With an odd count (a hole) the last interval runs to the end; outvoted.
+                // With an odd count (a hole) the last interval runs to the end: every point
+                // of the line is marked, and left to the winding number.
+                if (c.size() & 1)
+                    for (long t = 0; t < n[a]; ++t) vote[base + static_cast<size_t>(t) * stride[a]] |= uint8_t(8u << a);
                 for (size_t k = 0; k < c.size(); k += 2) {
                     const double hi = k + 1 < c.size() ? c[k + 1] : std::numeric_limits<double>::infinity();
                     const long t0 = first_above(o[a], h, n[a], c[k]), t1 = first_above(o[a], h, n[a], hi);
-                    for (long t = t0; t < t1; ++t) ++vote[base + static_cast<size_t>(t) * stride[a]];
+                    for (long t = t0; t < t1; ++t) vote[base + static_cast<size_t>(t) * stride[a]] |= uint8_t(1u << a);
                 }
             }
         }
     }
-    for (uint8_t& f : votes) f = f >= 2 ? 1 : 0;
+    // Unanimous rays on even lines decide at once; the rest (none for a closed mesh) may ask the
+    // winding number, in parallel since there may be many lines through a hole.
+    const long total = static_cast<long>(votes.size());
+    uint8_t* flag = votes.data();
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 256)
+#endif
+    for (long i = 0; i < total; ++i) {
+        const long ix = i / (static_cast<long>(ny) * nz), iy = (i / nz) % ny, iz = i % nz;
+        flag[i] = decide(flag[i], {o[0] + h * static_cast<double>(ix), o[1] + h * static_cast<double>(iy),
+                                   o[2] + h * static_cast<double>(iz)});
+    }
     return votes;
 }
 

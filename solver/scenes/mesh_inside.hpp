@@ -6,19 +6,25 @@
 #include <vector>
 
 #include "io/obj_mesh.hpp"
+#include "scenes/winding_number.hpp"
 
 namespace sph {
 
-// Parity of ray crossings along the three coordinate axes, combined by majority vote: a ray
-// that slips through a small hole gets the wrong parity and is outvoted by the other two.
-// Rays through a shared edge or vertex are counted once (exactly antisymmetric edge tests with
-// a symbolic perturbation of the ray), so lattice lines through mesh vertices are safe.
-// The object keeps its own copy of the geometry; all queries are const and thread-safe.
+// Parity of ray crossings along the three coordinate axes. Where the mesh is closed the three
+// agree; a hole shows itself as a line with an odd number of crossings, whose parity is then
+// wrong for every point beyond it, and a majority of three rays rescues only points with one
+// bad ray. So a point whose rays disagree, or that lies on a line with an odd count, is inside
+// only when its generalised winding number (winding_number.hpp) is above 1/2 and the rays of
+// its even lines do not say outside by a majority. The winding number alone would fill the
+// space between two holes that face each other (across a tunnel), and the even lines alone
+// are fooled by a line through two holes; both are needed for water. A closed mesh has no
+// disputed points and is classified by the rays alone, as before.
 class MeshInsideTest {
 public:
     explicit MeshInsideTest(const TriangleMesh& mesh);
 
-    // True when p is inside by at least two of the three axis rays.
+    // True when all three axis rays find p inside on lines with even crossing counts; for a
+    // disputed point, by the rule above.
     bool contains(Vec3d p) const;
 
     // One flag (0/1) per lattice point origin + spacing*(ix, iy, iz), stored at
@@ -39,8 +45,16 @@ private:
     // Coordinates along the ray (axis a, through (pu, pv)) where it crosses the mesh, unsorted.
     void crossings(int a, double pu, double pv, std::vector<double>& out) const;
 
+    // The winding number with the mesh's orientation taken out (inward-facing meshes read 1
+    // inside too): what decides a disputed point.
+    bool inside_by_winding(Vec3d p) const;
+    // `rays`: bit a set when axis a's ray found p inside, bit 3 + a when its line was odd.
+    bool decide(unsigned rays, Vec3d p) const;
+
     std::vector<std::array<double, 9>> tri_;  // x0 y0 z0 x1 y1 z1 x2 y2 z2
     std::array<AxisGrid, 3> grid_;
+    WindingNumber winding_;
+    double orientation_ = 1;  // -1 for a mesh whose triangles face inwards
 };
 
 }  // namespace sph

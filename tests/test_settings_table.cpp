@@ -1,0 +1,304 @@
+// The solver settings table makes both the `simulate` flags and the spec keys: every entry is
+// accepted by both, refused outside its range by both with the same words, and `--set` agrees.
+// Then the command line's rough edges: a range as a person writes it, "abc" as not a number,
+// an unknown subcommand named, an output folder that is a file refused before any work.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli_options.hpp"
+#include "commands.hpp"
+#include "core/error.hpp"
+#include "experiment_spec.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sph {
+namespace {
+
+// What is left of a message once the name in front of it ("--skin: ", "spec.toml:5: skin: ") is
+// taken away; "" when the name is not there.
+std::string after(const std::string& message, const std::string& prefix_end) {
+    const auto at = message.find(prefix_end);
+    return at == std::string::npos ? "" : message.substr(at + prefix_end.size());
+}
+
+class SettingsTableTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() / ("sph_test_settings_" + std::to_string(::getpid()) + "_" + info->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    // The flag given to a command made of the table's flags: the error message ("" when
+    // accepted) and, when accepted, the value stored under the key.
+    static std::string cli_error(const std::vector<std::string>& args, SettingMap& given) {
+        CLI::App app{"test"};
+        add_solver_options(app, given);
+        std::vector<std::string> argv = {"test"};
+        argv.insert(argv.end(), args.begin(), args.end());
+        std::vector<char*> raw;
+        for (auto& a : argv) raw.push_back(a.data());
+        try {
+            app.parse(int(raw.size()), raw.data());
+        } catch (const CLI::ParseError& e) {
+            return e.what();
+        }
+        return "";
+    }
+
+    // `key = toml_value` in a spec's [solver]: the error ("" when accepted) and the stored value.
+    std::string spec_error(const std::string& key, const std::string& toml_value, std::string& stored) {
+        const std::string path = (dir_ / "spec.toml").string();
+        std::ofstream(path) << "name = \"x\"\nreproduces = \"y\"\nsteps = 1\n[solver]\n"
+                            << key << " = " << toml_value << "\n[[runs]]\nscene = \"tank\"\n";
+        try {
+            stored = load_spec(path).solver.at(key);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    }
+
+    // `--set key=text` on a spec run.
+    std::string set_error(const std::string& key, const std::string& text) {
+        const std::string path = (dir_ / "ok.toml").string();
+        std::ofstream(path) << "name = \"x\"\nreproduces = \"y\"\nsteps = 1\n[[runs]]\nscene = \"tank\"\n";
+        ExpandOptions ex;
+        ex.overrides = {{key, text}};
+        try {
+            expand(load_spec(path), ex);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    }
+
+    fs::path dir_;
+};
+
+struct Probe {
+    std::string text;  // as given on the command line
+    std::string toml;  // as written in a spec
+};
+
+// Values inside the range (its ends included where they belong to it) and outside it.
+void probes_of(const SolverSetting& s, std::vector<Probe>& good, std::vector<Probe>& bad) {
+    auto num = [](double v) {
+        const std::string t = v == std::floor(v) ? std::to_string((long long)v) : format_number(v);
+        return Probe{t, t};
+    };
+    switch (s.kind) {
+    case SettingKind::integer:
+    case SettingKind::number: {
+        const ValueRange& r = s.range;
+        ASSERT_TRUE(std::isfinite(r.lo) && std::isfinite(r.hi)) << s.key;
+        good.push_back(num(r.hi));
+        if (!r.lo_open) good.push_back(num(r.lo));
+        if (s.kind == SettingKind::number) good.push_back(num(r.lo + (r.hi - r.lo) / 3));
+        bad.push_back(num(r.lo_open ? r.lo : r.lo - 1));
+        bad.push_back(num(r.hi + 1));
+        if (s.kind == SettingKind::number) bad.push_back(num(r.lo - 1e-3));
+        break;
+    }
+    case SettingKind::integer_list:
+        good.push_back({format_number(s.range.lo), "[" + format_number(s.range.lo) + "]"});
+        bad.push_back({format_number(s.range.hi + 1), "[" + format_number(s.range.hi + 1) + "]"});
+        bad.push_back({format_number(s.range.lo - 1), "[" + format_number(s.range.lo - 1) + "]"});
+        break;
+    case SettingKind::text:
+        for (const auto& c : s.choices) good.push_back({c, "\"" + c + "\""});
+        if (std::string(s.key) == "balancer")
+            for (const char* b : {"none", "simple", "every:3", "threshold"}) good.push_back({b, "\"" + std::string(b) + "\""});
+        bad.push_back({"frobnicate", "\"frobnicate\""});
+        break;
+    case SettingKind::boolean: break;
+    }
+}
+
+TEST_F(SettingsTableTest, EveryEntryIsAcceptedAndRefusedAlikeByFlagSpecAndSet) {
+    int refusals_compared = 0;
+    for (const SolverSetting& s : solver_settings_table()) {
+        const std::string key = s.key, flag = setting_flag(s);
+        std::vector<Probe> good, bad;
+        probes_of(s, good, bad);
+        if (s.kind == SettingKind::boolean) {
+            // A switch on the command line; true and false in a spec.
+            ASSERT_TRUE(s.on_command_line) << key;
+            SettingMap given;
+            EXPECT_EQ(cli_error({flag}, given), "") << flag;
+            std::string stored;
+            for (const char* v : {"true", "false"}) {
+                EXPECT_EQ(spec_error(key, v, stored), "") << key;
+                EXPECT_EQ(stored, v) << key;
+            }
+            EXPECT_EQ(given.at(key), std::string(s.fallback) == "true" ? "false" : "true") << flag;
+            continue;
+        }
+        for (const Probe& p : good) {
+            std::string stored;
+            EXPECT_EQ(spec_error(key, p.toml, stored), "") << key << " = " << p.toml;
+            EXPECT_EQ(set_error(key, p.text), "") << "--set " << key << "=" << p.text;
+            if (!s.on_command_line) continue;
+            SettingMap given;
+            EXPECT_EQ(cli_error({flag, p.text}, given), "") << flag << " " << p.text;
+            EXPECT_EQ(given[key], stored) << flag << " " << p.text << ": the flag and the key store the same value";
+        }
+        for (const Probe& p : bad) {
+            std::string stored;
+            const std::string from_spec = after(spec_error(key, p.toml, stored), ": " + key + ": ");
+            const std::string from_set = after(set_error(key, p.text), "--set " + key + ": ");
+            ASSERT_NE(from_spec, "") << key << " = " << p.toml << " is refused, naming the key";
+            EXPECT_EQ(from_set, from_spec) << "--set " << key << "=" << p.text;
+            EXPECT_NE(from_spec.find(p.text), std::string::npos) << from_spec << ": the value is named";
+            if (!s.on_command_line) continue;
+            SettingMap given;
+            const std::string from_flag = after(cli_error({flag, p.text}, given), flag + ": ");
+            EXPECT_EQ(from_flag, from_spec) << flag << " " << p.text;
+            ++refusals_compared;
+        }
+    }
+    EXPECT_GE(refusals_compared, 20);
+}
+
+TEST_F(SettingsTableTest, ThePreviouslyDisagreeingSettingsNowAgree) {
+    // The issue's list: the GPU's name, skin's range, cfl's range, device_map in specs.
+    ASSERT_NE(find_solver_setting("gpu"), nullptr);
+    EXPECT_EQ(find_solver_setting("device"), nullptr);
+    EXPECT_EQ(setting_flag(*find_solver_setting("gpu")), "--gpu");
+    SettingMap given;
+    EXPECT_NE(cli_error({"--skin", "5"}, given), "");
+    std::string stored;
+    EXPECT_NE(spec_error("skin", "5.0", stored), "");
+    EXPECT_EQ(spec_error("device_map", "[1, 0]", stored), "");
+    EXPECT_EQ(stored, "1,0");
+    EXPECT_EQ(cli_error({"--device-map", "1", "0"}, given), "");
+    EXPECT_EQ(given.at("device_map"), "1,0");
+    EXPECT_EQ(cli_error({"--devices", "2", "--device-map", "1", "0"}, given), "");
+    EXPECT_EQ(to_solver_options(complete_solver_settings(given), false).device_map, (std::vector<int>{1, 0}));
+    // A map with a GPU per subdomain or none at all.
+    SettingMap mismatched = {{"devices", "3"}, {"device_map", "1,0"}};
+    EXPECT_THROW(to_solver_options(complete_solver_settings(mismatched), false), InputError);
+}
+
+TEST_F(SettingsTableTest, RangesReadAsAPersonWritesThem) {
+    EXPECT_EQ(whole_from(1, 4).describe(), "a whole number from 1 to 4");
+    EXPECT_EQ(whole_from(1).describe(), "a whole number of at least 1");
+    EXPECT_EQ(number_above(0).describe(), "a number greater than 0");
+    EXPECT_EQ(number_above(0, 10).describe(), "a number greater than 0 and at most 10");
+    for (const SolverSetting& s : solver_settings_table()) {
+        const std::string d = describe_allowed(s);
+        EXPECT_LT(d.size(), 120u) << s.key << ": " << d;
+        EXPECT_EQ(d.find("e+"), std::string::npos) << s.key << ": " << d;
+    }
+    auto message = [](const ValueRange& r, const std::string& text) {
+        try {
+            r.check("--steps", text);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_EQ(message(whole_from(1), "abc"), "--steps: 'abc' is not a number (allowed: a whole number of at least 1)");
+    EXPECT_EQ(message(whole_from(1), "-1"), "--steps: -1 is out of range (allowed: a whole number of at least 1)");
+    EXPECT_EQ(message(whole_from(1), "2.5"), "--steps: 2.5 is not a whole number (allowed: a whole number of at least 1)");
+    EXPECT_EQ(message(number_above(0), "0"), "--steps: 0 is out of range (allowed: a number greater than 0)");
+    EXPECT_EQ(message(number_above(0), "inf"), "--steps: 'inf' is not a number (allowed: a number greater than 0)");
+    EXPECT_EQ(message(whole_from(1), "+3"), "");
+    EXPECT_EQ(whole_from(1).check("n", "+3"), "3");
+    EXPECT_EQ(whole_from(1).check("n", "1e6"), "1000000");
+    EXPECT_EQ(number_above(0).check("n", "2.50"), "2.5");
+}
+
+// `sphbench ARGS...` through the real registrations and main's check of the subcommand:
+// the exit code, and the message of what was refused.
+int sphbench(std::vector<std::string> args, std::string& message) {
+    args.insert(args.begin(), "sphbench");
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    CLI::App app{"sphbench"};
+    app.require_subcommand(1);
+    CommandContext ctx{int(argv.size()), argv.data()};
+    add_simulate_command(app, ctx);
+    add_run_command(app, ctx);
+    add_info_command(app, ctx);
+    message.clear();
+    try {
+        check_subcommand(app, int(argv.size()), argv.data());
+        app.parse(int(argv.size()), argv.data());
+    } catch (const CLI::ParseError& e) {
+        message = e.what();
+        return exit_usage;
+    } catch (const InputError& e) {
+        message = e.what();
+        return exit_usage;
+    } catch (const std::exception& e) {
+        message = e.what();
+        return exit_run_failed;
+    }
+    return ctx.exit_code;
+}
+
+TEST_F(SettingsTableTest, TheIssuesCommandLinesGetOneSentenceEach) {
+    std::string m;
+    EXPECT_EQ(sphbench({"frobnicate"}, m), exit_usage);
+    EXPECT_NE(m.find("unknown subcommand 'frobnicate'"), std::string::npos) << m;
+    EXPECT_NE(m.find("simulate"), std::string::npos) << m;
+
+    struct Case {
+        std::vector<std::string> args;
+        std::string expected;
+    };
+    const Case cases[] = {
+        {{"--steps", "-1"}, "--steps: -1 is out of range (allowed: a whole number of at least 1)"},
+        {{"--steps", "abc"}, "--steps: 'abc' is not a number (allowed: a whole number of at least 1)"},
+        {{"--devices", "0"}, "--devices: 0 is out of range (allowed: a whole number from 1 to 1024)"},
+        {{"--fixed-dt", "-1"}, "--fixed-dt: -1 is out of range (allowed: a number greater than 0 and at most 1000)"},
+        {{"--cfl", "abc"}, "--cfl: 'abc' is not a number (allowed: a number greater than 0 and at most 1)"},
+        {{"--backend", "gpu"}, "--backend: 'gpu' is not one of \"auto\", \"cuda\" or \"host\""},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args = {"simulate", "tank"};
+        args.insert(args.end(), c.args.begin(), c.args.end());
+        EXPECT_EQ(sphbench(args, m), exit_usage) << c.args[0];
+        EXPECT_EQ(m, c.expected);
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+    // `run` checks its --backend and --set values with the same words.
+    EXPECT_EQ(sphbench({"run", "experiments/none.toml", "--backend", "gpu"}, m), exit_usage);
+    EXPECT_EQ(m, "--backend: 'gpu' is not one of \"auto\", \"cuda\" or \"host\"");
+}
+
+TEST_F(SettingsTableTest, AnOutputFolderThatIsAFileIsRefusedBeforeAnyRun) {
+    const std::string file = (dir_ / "taken").string();
+    std::ofstream(file) << "not a folder\n";
+    std::string m;
+    // Enough steps that a run would take a while: the refusal must come first, as bad input.
+    EXPECT_EQ(sphbench({"simulate", "tank", "--steps", "100000", "--quiet", "--backend", "host", "--out", file}, m),
+              exit_usage);
+    EXPECT_NE(m.find("--out"), std::string::npos) << m;
+    EXPECT_NE(m.find(file), std::string::npos) << m;
+    EXPECT_EQ(sphbench({"simulate", "tank", "--steps", "100000", "--quiet", "--backend", "host", "--out",
+                        file + "/below"},
+                       m),
+              exit_usage);
+    EXPECT_NE(m.find("is a file"), std::string::npos) << m;
+
+    const std::string spec = (dir_ / "one.toml").string();
+    std::ofstream(spec) << "name = \"one\"\nreproduces = \"y\"\nsteps = 100000\n[[runs]]\nscene = \"tank\"\n";
+    EXPECT_EQ(sphbench({"run", spec, "--backend", "host", "--quiet", "--out", file}, m), exit_usage);
+    EXPECT_NE(m.find("--out"), std::string::npos) << m;
+    // A folder that does not exist yet is fine: it is made when results are written.
+    EXPECT_NO_THROW(check_output_folder("--out", (dir_ / "new" / "deeper").string()));
+}
+
+}  // namespace
+}  // namespace sph
