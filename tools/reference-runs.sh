@@ -52,7 +52,10 @@ forceloop)
   grep -E 'cuda |forces against|OK \]|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_tests.txt"
   cases=("dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2"
          "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2"
-         "armadillo --set particles=2980000" "armadillo --set particles=2980000 --merge --cells-per-support 2")
+         "armadillo --set particles=2980000" "armadillo --set particles=2980000 --merge --cells-per-support 2"
+         "dsph-dambreak --merge" "dsph-dambreak --set kernel=wendland --cells-per-support 2 --merge"
+         "dsph-dambreak --set dp=0.0028 --merge"
+         "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2 --merge")
   bins=(sphbench)
   [ -n "${BASE:-}" ] && command -v "$BASE" >/dev/null && bins=("$BASE" sphbench)
   for extra in ${EXTRA_BINS:-}; do command -v "$extra" >/dev/null && bins+=("$extra"); done
