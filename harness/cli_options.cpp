@@ -15,7 +15,7 @@ void add_solver_options(CLI::App& cmd, SolverCli& o) {
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     cmd.add_option("--device-map", o.device_map, "GPU of each subdomain, e.g. --device-map 0 1 (default: d mod GPUs)");
-    cmd.add_option("--balancer", o.balancer, "load balancing: none, simple, every:K or threshold (paper 5.2)")
+    cmd.add_option("--balancer", o.balancer, "load balancing: none, simple, every:K or threshold (paper 5.2), or equal-time[:F] (moves as many slices as the measured rates call for)")
         ->capture_default_str();
     cmd.add_option("--transport", o.transport,
                    "how particles travel between subdomains: auto, host, peer (GPU to GPU), staged (through host "

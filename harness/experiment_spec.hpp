@@ -15,7 +15,7 @@
 //     backend = "auto"                 #   "auto", "cuda" or "host"
 //     devices = 1                      #   X-slab subdomains (1..1024), on N GPUs, one, or the host
 //     device = 0                       #   GPU of a one-subdomain run
-//     balancer = "none"                #   "none", "simple", "every:K" or "threshold"
+//     balancer = "none"                #   "none", "simple", "every:K", "threshold" or "equal-time[:F]"
 //     transport = "auto"               #   "auto", "host", "peer", "staged" or "nccl"
 //     cells_per_support = 1            #   1..4 (Smaller Cell)
 //     merge = false                    #   Cell Merging

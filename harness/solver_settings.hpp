@@ -15,7 +15,7 @@ using SettingMap = std::map<std::string, std::string>;
 enum class SettingKind { text, integer, number, boolean };
 
 // backend, devices (X-slab subdomains), device (GPU of a one-subdomain run), balancer (none,
-// simple, every:K, threshold), transport (auto, host, peer, staged, nccl), cells_per_support (1..4), merge, verlet, skin (fraction of the
+// simple, every:K, threshold, equal-time[:F]), transport (auto, host, peer, staged, nccl), cells_per_support (1..4), merge, verlet, skin (fraction of the
 // support), rebuild_every (0: on displacement), fixed_dt (0: CFL-limited), cfl (0: the
 // scene's), diffusion, precision (float32 or float64; default: this binary's): the column
 // order of runs.csv.
