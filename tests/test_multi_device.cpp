@@ -55,11 +55,12 @@ TEST_P(MultiDevice, MatchesOneSubdomainBitwise) {
 INSTANTIATE_TEST_SUITE_P(Slabs, MultiDevice,
                          ::testing::Values(MultiCase{2, "none", 1, false}, MultiCase{3, "none", 1, true},
                                            MultiCase{4, "simple", 1, true}, MultiCase{2, "threshold", 1, true},
-                                           MultiCase{3, "every:5", 2, true}, MultiCase{2, "simple", 2, false}),
+                                           MultiCase{3, "every:5", 2, true}, MultiCase{2, "simple", 2, false},
+                                           MultiCase{4, "equal-time", 1, true}),
                          [](const auto& info) {
                              std::string b = info.param.balancer;
                              for (char& c : b)
-                                 if (c == ':') c = '_';
+                                 if (c == ':' || c == '-') c = '_';
                              return std::to_string(info.param.subdomains) + "_" + b + "_n" +
                                     std::to_string(info.param.cells_per_support);
                          });

@@ -19,6 +19,8 @@ public:
 
     BackendKind backend() const override { return BackendKind::host; }
     std::string device_name() const override { return "host"; }
+    int device() const override { return -1; }
+    void* stream() const override { return nullptr; }
 
     void upload(const ParticleArrays& p) override {
         a_ = p;
