@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "io/csv_writer.hpp"
+#include "multi/rank_group.hpp"
 #include "progress.hpp"
 #include "search_calibration.hpp"
 
@@ -108,7 +109,8 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
     res.bytes_allocated = sim.bytes_allocated();
 
     namespace fs = std::filesystem;
-    const bool writing = !req.out_dir.empty();
+    // Under MPI every rank holds the whole record; rank 0 alone writes it.
+    const bool writing = !req.out_dir.empty() && process_ranks().rank() == 0;
     std::unique_ptr<SnapshotSeries> snapshots;
     if (writing && req.snapshot_every > 0)
         snapshots = std::make_unique<SnapshotSeries>((fs::path(req.out_dir) / (req.basename + "_snapshots")).string(),
