@@ -107,6 +107,5 @@ private:
 std::unique_ptr<RankGroup> make_mpi_rank_group(int& argc, char**& argv) {
     return std::make_unique<MpiRankGroup>(argc, argv);
 }
-bool mpi_available() { return true; }
 
 }  // namespace sph

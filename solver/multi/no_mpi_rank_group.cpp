@@ -8,6 +8,5 @@ std::unique_ptr<RankGroup> make_mpi_rank_group(int&, char**&) {
     throw InputError("this sphbench was started by mpirun, but it was built without MPI (install libopenmpi-dev "
                      "with tools/install-deps.sh and configure again)");
 }
-bool mpi_available() { return false; }
 
 }  // namespace sph

@@ -42,7 +42,6 @@ bool started_by_mpirun();
 // The MPI group of this job (MPI_Init now, MPI_Finalize when it is destroyed). Throws
 // InputError when the build has no MPI.
 std::unique_ptr<RankGroup> make_mpi_rank_group(int& argc, char**& argv);
-bool mpi_available();  // compiled with MPI
 
 // Typed helpers over bytes, for trivially copyable values.
 template <class T>
