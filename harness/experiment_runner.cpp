@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "io/csv_writer.hpp"
+#include "multi/rank_group.hpp"
 #include "statistics.hpp"
 
 namespace sph {
@@ -175,7 +176,8 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
     ExperimentOutcome outcome;
     outcome.runs_csv = (fs::path(dir) / "runs.csv").string();
     std::error_code ec;
-    fs::remove(outcome.runs_csv, ec);  // its step files are about to be replaced
+    const bool writing = process_ranks().rank() == 0;  // under MPI, rank 0 writes
+    if (writing) fs::remove(outcome.runs_csv, ec);  // its step files are about to be replaced
 
     const std::vector<std::string> columns = runs_csv_columns(runs);
     std::vector<std::vector<std::string>> rows;
@@ -226,9 +228,11 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
         for (std::size_t i = 0; i < runs.size(); ++i)
             if (rows[i].empty()) rows[i] = delegated.at(runs[i].run_id);
     }
-    CsvWriter table(outcome.runs_csv, columns, options.metadata);
-    for (const auto& row : rows) table.row(row);
-    table.commit();
+    if (writing) {
+        CsvWriter table(outcome.runs_csv, columns, options.metadata);
+        for (const auto& row : rows) table.row(row);
+        table.commit();
+    }
     outcome.files.push_back(outcome.runs_csv);
     return outcome;
 }

@@ -1,5 +1,7 @@
 #include "provenance.hpp"
 
+#include "multi/rank_group.hpp"
+
 #include <unistd.h>
 
 #include <array>
@@ -105,6 +107,7 @@ Metadata provenance(const std::string& backend, const std::string& devices, cons
             {"cuda_compiled", b.cuda_compiled},
             {"backend", backend},
             {"devices", devices},
+            {"processes", process_ranks().description()},
             {"cuda", cuda.empty() ? "none" : cuda},
             {"host", host},
             {"date", utc_now()},

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "io/csv_writer.hpp"
+#include "multi/rank_group.hpp"
 #include "progress.hpp"
 #include "search_calibration.hpp"
 
@@ -108,16 +109,19 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
     res.bytes_allocated = sim.bytes_allocated();
 
     namespace fs = std::filesystem;
-    const bool writing = !req.out_dir.empty();
+    // Under MPI every rank holds the whole record; rank 0 alone writes it.
+    const bool writing = !req.out_dir.empty() && process_ranks().rank() == 0;
+    // A snapshot gathers every rank's particles, so every rank takes it; rank 0 writes it.
+    const bool snapshotting = !req.out_dir.empty() && req.snapshot_every > 0;
     std::unique_ptr<SnapshotSeries> snapshots;
-    if (writing && req.snapshot_every > 0)
+    if (writing && snapshotting)
         snapshots = std::make_unique<SnapshotSeries>((fs::path(req.out_dir) / (req.basename + "_snapshots")).string(),
                                                      req.basename);
-    auto write_snapshot = [&](const SnapshotData& s) {
-        if (!snapshots) return;
-        snapshots->write(s);
+    auto take_snapshot = [&] {
+        const SnapshotData s = sim.snapshot();
+        if (snapshots) snapshots->write(s);
     };
-    write_snapshot(sim.snapshot());
+    if (snapshotting) take_snapshot();
     std::unique_ptr<ValidationRecorder> validation;
     if (req.validation.enabled()) {
         validation = std::make_unique<ValidationRecorder>(scene, req.validation);
@@ -144,7 +148,7 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
                     ++res.work.samples;
                 }
             }
-            if (snapshots && k % req.snapshot_every == 0) write_snapshot(sim.snapshot());
+            if (snapshotting && k % req.snapshot_every == 0) take_snapshot();
             const bool ended = end_time > 0 && r.time >= end_time;
             if (validation && (ended || k == total || validation->due(r.time))) {
                 const auto v0 = std::chrono::steady_clock::now();

@@ -29,7 +29,7 @@ const std::vector<SolverSetting>& settings() {
         {"device_map", SettingKind::integer_list, "", whole_from(0, 1023), {}, nullptr,
          "GPU of each subdomain, e.g. 0,1 (default: subdomain d on GPU d mod GPUs)", true},
         {"balancer", SettingKind::text, "none", {}, {}, check_balancer,
-         "load balancing: none, simple, every:K or threshold (paper 5.2)", true},
+         "load balancing: none, simple, every:K or threshold (paper 5.2), or equal-time[:F] (moves as many slices as the measured rates call for)", true},
         {"transport", SettingKind::text, "auto", {}, {"auto", "host", "peer", "staged", "nccl"}, nullptr,
          "how particles travel between subdomains: auto, host, peer (GPU to GPU), staged (through host memory) or "
          "nccl",

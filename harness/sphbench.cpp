@@ -4,8 +4,26 @@
 
 #include "commands.hpp"
 #include "core/error.hpp"
+#include "multi/rank_group.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+// Under mpirun each rank runs the whole program on its share of the subdomains; rank 0 alone
+// prints and writes. An error on any rank stops the whole job (MPI_Abort): a rank that
+// returned would leave the others waiting in a collective.
+int fail(const char* what, int code) {
+    sph::RankGroup& ranks = sph::process_ranks();
+    if (ranks.size() == 1) {
+        std::fprintf(stderr, "sphbench: %s\n", what);
+        return code;
+    }
+    std::fprintf(stderr, "sphbench (rank %d of %d): %s\n", ranks.rank(), ranks.size(), what);
+    std::fflush(stderr);
+    ranks.abort(code);
+    return code;  // not reached: abort stops the job
+}
+
+int run(int argc, char** argv) {
     CLI::App app{"sphbench: a multi-GPU SPH solver and the benchmark harness that recreates the figures of "
                  "Hu, Shen and Long's multi-GPU SPH paper"};
     app.require_subcommand(1);
@@ -26,14 +44,29 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "sphbench: %s\n", e.what());
         return sph::exit_usage;
     } catch (const sph::InputError& e) {
-        std::fprintf(stderr, "sphbench: %s\n", e.what());
-        return sph::exit_usage;
+        return fail(e.what(), sph::exit_usage);
     } catch (const sph::RunError& e) {
-        std::fprintf(stderr, "sphbench: %s\n", e.what());
-        return sph::exit_run_failed;
+        return fail(e.what(), sph::exit_run_failed);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "sphbench: %s\n", e.what());
-        return sph::exit_run_failed;
+        return fail(e.what(), sph::exit_run_failed);
     }
     return ctx.exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (sph::started_by_mpirun()) {
+        try {
+            sph::set_process_ranks(sph::make_mpi_rank_group(argc, argv));
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "sphbench: %s\n", e.what());
+            return sph::exit_usage;
+        }
+        if (sph::process_ranks().rank() != 0 && !std::freopen("/dev/null", "w", stdout))
+            std::fprintf(stderr, "sphbench: rank %d could not silence its output\n", sph::process_ranks().rank());
+    }
+    const int code = run(argc, argv);
+    sph::set_process_ranks(nullptr);  // MPI_Finalize
+    return code;
 }

@@ -89,18 +89,15 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
         d->sort_by_cell();
         d->advance(euler_step(0));
     }
-    if (slabs_) {
-        exchange_->exchange(subdomains_, *slabs_);
-        exchanged_for_ = std::make_unique<SlabDecomposition>(*slabs_);
-    }
-    StepStats stats;
+    domain_->exchange(subdomains_);
+    std::vector<StepStats> local_stats;
     for (auto& d : subdomains_) {
         if (options_.search.verlet) d->build_neighbour_list(verlet_skin());
         options_.search.verlet ? d->compute_forces_listed() : d->compute_forces();
-        stats = merge_stats(stats, d->reduce_stats(euler_step(0), limits_));
+        local_stats.push_back(d->reduce_stats(euler_step(0), limits_));
         d->clock().collect();
     }
-    record_.stats = stats;
+    record_.stats = gather_stats(local_stats);
 }
 
 // What periodic axes cannot be combined with, refused before anything is allocated.
@@ -127,54 +124,40 @@ void Simulation::check_periodic_options() const {
 
 void Simulation::make_subdomains(const ParticleArrays& all) {
     const int n = options_.subdomains;
-    if (n < 1) throw InputError("the number of subdomains must be at least 1, got " + std::to_string(n));
-    const SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel, options_.diffusion && scene_.params.delta > 0,
-                              options_.search};
-    auto make = [&](int d, std::size_t capacity) -> std::unique_ptr<Subdomain> {
-        if (options_.backend == BackendKind::host) return make_host_subdomain(cfg, capacity);
-        int gpu = options_.device;
-        if (n > 1) gpu = options_.device_map.empty() ? d % std::max(1, cuda_device_count()) : options_.device_map[d];
-        return make_cuda_subdomain(cfg, capacity, gpu);
-    };
-    if (n == 1) {
-        subdomains_.push_back(make(0, all.size()));
-        subdomains_.front()->upload(all);
-        nvtx_name_device(0, subdomains_.front()->device_name().c_str());
-        return;
-    }
-    if (options_.search.verlet) throw InputError("Verlet lists run on one subdomain only; drop --verlet or use 1 device");
-    if (!options_.device_map.empty() && int(options_.device_map.size()) != n)
+    if (n > 1 && options_.search.verlet)
+        throw InputError("Verlet lists run on one subdomain only; drop --verlet or use 1 device");
+    if (n > 1 && !options_.device_map.empty() && int(options_.device_map.size()) != n)
         throw InputError("the device map names " + std::to_string(options_.device_map.size()) + " GPUs for " +
                          std::to_string(n) + " subdomains");
-    // Split so that each slab starts with about the same number of particles.
-    const std::uint32_t slice_cells = std::uint32_t(grid_.view.ny) * std::uint32_t(grid_.view.nz);
-    std::vector<long long> per_slice(grid_.view.nx, 0);
-    for (std::uint32_t c : all.cell)
-        if (c < grid_.view.out_of_domain()) ++per_slice[c / slice_cells];
-    const int ghost = options_.search.cells_per_support;
-    slabs_ = std::make_unique<SlabDecomposition>(SlabDecomposition::balanced_by_particles(per_slice, n, ghost));
-    balancer_ = make_balancer(options_.balancer);
-    std::vector<ParticleArrays> parts(n);
-    for (std::size_t i = 0; i < all.size(); ++i) {
-        const std::uint32_t c = all.cell[i];
-        const int d = c < grid_.view.out_of_domain() ? slabs_->owner_of(int(c / slice_cells)) : 0;
-        ParticleArrays& p = parts[d];
-        p.pos.push_back(all.pos[i]);
-        p.velrho.push_back(all.velrho[i]);
-        p.cell.push_back(c);
-        p.id.push_back(all.id[i]);
-    }
-    // Room for a slab that balancing grows, plus its ghosts.
-    const std::size_t capacity = all.size() + all.size() / 4 + 1024;
-    for (int d = 0; d < n; ++d) {
-        subdomains_.push_back(make(d, capacity));
-        subdomains_.back()->upload(parts[d]);
-        subdomains_.back()->set_owned_cells(slabs_->begin(d) * slice_cells, slabs_->end(d) * slice_cells);
-        const std::string label = "subdomain " + std::to_string(d) + " on " + subdomains_.back()->device_name();
+    RankGroup& ranks = options_.ranks ? *options_.ranks : process_ranks();
+    if (ranks.size() > 1 && options_.backend != BackendKind::host)
+        throw InputError("MPI runs use the host backend so far (--backend host); " + std::to_string(ranks.size()) +
+                         " ranks were started with the CUDA backend");
+    // Slabs of about the same number of particles each; a slab keeps ghost-depth slices.
+    domain_ = std::make_unique<SlabDomain>(grid_.view, n, options_.search.cells_per_support, options_.balancer, all,
+                                           ranks);
+    const SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel, options_.diffusion && scene_.params.delta > 0,
+                              options_.search};
+    // One subdomain holds everything; a slab needs room for what balancing gives it, plus ghosts.
+    const std::size_t capacity = n == 1 ? all.size() : all.size() + all.size() / 4 + 1024;
+    // One subdomain uploads `all` itself (no copy of a large scene).
+    std::vector<ParticleArrays> parts = domain_->split() ? domain_->local_parts(all) : std::vector<ParticleArrays>(1);
+    for (int d = 0; d < int(parts.size()); ++d) {
+        const int g = domain_->first_local() + d;
+        if (options_.backend == BackendKind::host) {
+            subdomains_.push_back(make_host_subdomain(cfg, capacity));
+        } else {
+            int gpu = options_.device;
+            if (n > 1) gpu = options_.device_map.empty() ? g % std::max(1, cuda_device_count()) : options_.device_map[g];
+            subdomains_.push_back(make_cuda_subdomain(cfg, capacity, gpu));
+        }
+        subdomains_.back()->upload(domain_->split() ? parts[d] : all);
+        parts[d] = {};
+        const std::string label = n == 1 ? subdomains_.back()->device_name()
+                                         : "subdomain " + std::to_string(g) + " on " + subdomains_.back()->device_name();
         nvtx_name_device(d, label.c_str());
     }
-    exchange_ = std::make_unique<SlabExchange>(grid_.view, ghost,
-                                               make_transport(options_.transport, subdomains_, transport_note_));
+    domain_->connect(subdomains_, options_.transport);
 }
 
 double Simulation::next_dt() const {
@@ -198,18 +181,20 @@ const StepRecord& Simulation::step() {
     const int count = int(subdomains_.size());
     record_.slices_moved = 0;
     record_.exchange = {};
-    if (slabs_) {
+    // With one slab there is nothing to drop or balance (the SlabDomain calls would do
+    // nothing); the test only keeps two empty phases off the timeline.
+    if (domain_->split()) {
         // The exchange later in the step needs every particle held once: drop the stale
         // ghosts first (a move on the device).
         for (int d = 0; d < count; ++d) {
             ScopedPhase ph(clock(d), Phase::migrate, n, d);
-            subdomains_[d]->keep_only_cells(exchange_->first_cell(exchanged_for_->begin(d)),
-                                            exchange_->first_cell(exchanged_for_->end(d)));
+            domain_->drop_ghosts(d, *subdomains_[d]);
         }
-    }
-    if (balancer_) {
+        // Moves slab boundaries from the previous step's update times (paper section 5.2).
         ScopedPhase ph(host_clock_, Phase::balance, n, 0);
-        rebalance(n);
+        std::vector<double> times;
+        for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
+        record_.slices_moved = domain_->rebalance(subdomains_, n, times);
     }
     const bool verlet = options_.search.verlet;
     // The forces are taken where the previous step's update (over record_.dt) left particles.
@@ -226,16 +211,17 @@ const StepRecord& Simulation::step() {
         }
     }
     ++steps_since_build_;
-    if (slabs_) exchange_particles(n);
+    exchange_particles(n);
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::forces, n, d);
         verlet ? subdomains_[d]->compute_forces_listed() : subdomains_[d]->compute_forces();
     }
-    StepStats stats;
+    std::vector<StepStats> local_stats;
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::diagnostics, n, d);
-        stats = merge_stats(stats, subdomains_[d]->reduce_stats(rule, limits_));
+        local_stats.push_back(subdomains_[d]->reduce_stats(rule, limits_));
     }
+    const StepStats stats = gather_stats(local_stats);
     if (stats.bad_id != 0xffffffffu) {
         static const char* what[] = {"", "a non-finite acceleration or density rate", "a speed above the limit",
                                      "a density outside the limits"};
@@ -253,16 +239,13 @@ const StepRecord& Simulation::step() {
         ScopedPhase ph(clock(d), Phase::integrate, n, d);
         subdomains_[d]->advance(rule);
     }
-    // The step's wall time per compute phase is the slowest subdomain's (paper: real wall time).
-    record_.subdomain_ms.assign(count, PhaseTimes{});
-    record_.subdomain_particles.assign(count, 0);
-    record_.phase_ms.fill(0);
+    std::vector<PhaseTimes> local_ms;
+    std::vector<std::size_t> local_particles;
     for (int d = 0; d < count; ++d) {
-        record_.subdomain_ms[d] = clock(d).collect();
-        record_.subdomain_particles[d] = count > 1 ? subdomains_[d]->active_count() : stats.fluid_count;
-        for (std::size_t p = 0; p < phase_count; ++p)
-            record_.phase_ms[p] = std::max(record_.phase_ms[p], record_.subdomain_ms[d][p]);
+        local_ms.push_back(clock(d).collect());
+        local_particles.push_back(domain_->split() ? subdomains_[d]->active_count() : stats.fluid_count);
     }
+    gather_record(local_ms, local_particles);
     const PhaseTimes host = host_clock_.collect();
     // Phase times overlap where the host waits for device work launched in an earlier phase;
     // the wall clock of the whole step (the subdomain clocks above have synchronised) does not.
@@ -281,31 +264,33 @@ const StepRecord& Simulation::step() {
 // devices, so that the phase holds the exchange (and its sort) and nothing queued before it;
 // profiling passes (timing off) skip those two waits.
 void Simulation::exchange_particles(long step) {
+    if (!domain_->split()) return;
     auto wait_for_devices = [&] {
         if (options_.timing)
             for (auto& d : subdomains_) d->synchronize();
     };
     wait_for_devices();
     ScopedPhase ph(host_clock_, Phase::exchange, step, 0);
-    record_.exchange = exchange_->exchange(subdomains_, *slabs_);
-    *exchanged_for_ = *slabs_;
+    record_.exchange = domain_->exchange(subdomains_);
     wait_for_devices();
 }
 
-// Moves slab boundaries from the previous step's update times (paper section 5.2).
-void Simulation::rebalance(long step) {
-    if (record_.subdomain_ms.size() != subdomains_.size()) return;  // no timed step yet
-    std::vector<double> times;
-    for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
-    std::vector<long long> per_slice(grid_.view.nx, 0);
-    for (int d = 0; d < int(subdomains_.size()); ++d) {
-        std::vector<std::uint32_t> cells;
-        for (int x = slabs_->begin(d); x <= slabs_->end(d); ++x) cells.push_back(exchange_->first_cell(x));
-        const std::vector<std::uint32_t> starts = subdomains_[d]->cell_starts(cells);
-        for (int x = slabs_->begin(d); x < slabs_->end(d); ++x)
-            per_slice[x] = starts[x - slabs_->begin(d) + 1] - starts[x - slabs_->begin(d)];
-    }
-    record_.slices_moved = slabs_->apply_moves(balancer_->decide(*slabs_, BalanceInput{times, per_slice, step}));
+// Every subdomain's statistics merged in subdomain order, as one process would (the kinetic
+// energy is a floating-point sum, so the order is part of the result).
+StepStats Simulation::gather_stats(const std::vector<StepStats>& local) const {
+    StepStats merged;
+    for (const StepStats& s : allgather_values(domain_->ranks(), local)) merged = merge_stats(merged, s);
+    return merged;
+}
+
+// The step's wall time per compute phase is the slowest subdomain's (paper: real wall time);
+// every subdomain's times and particle counts, on every rank (the balancer reads them).
+void Simulation::gather_record(const std::vector<PhaseTimes>& local_ms, const std::vector<std::size_t>& local_particles) {
+    record_.subdomain_ms = allgather_values(domain_->ranks(), local_ms);
+    record_.subdomain_particles = allgather_values(domain_->ranks(), local_particles);
+    record_.phase_ms.fill(0);
+    for (const PhaseTimes& t : record_.subdomain_ms)
+        for (std::size_t p = 0; p < phase_count; ++p) record_.phase_ms[p] = std::max(record_.phase_ms[p], t[p]);
 }
 
 real Simulation::verlet_skin() const { return real(options_.search.skin * scene_.params.support); }
@@ -323,9 +308,10 @@ bool Simulation::verlet_list_expired(double dt) {
 }
 
 WorkCounters Simulation::count_work() {
+    std::vector<WorkCounters> local;
+    for (auto& d : subdomains_) local.push_back(d->count_work());
     WorkCounters total;
-    for (auto& d : subdomains_) {
-        const WorkCounters w = d->count_work();
+    for (const WorkCounters& w : allgather_values(domain_->ranks(), local)) {
         total.candidates += w.candidates;
         total.neighbours += w.neighbours;
         total.ranges += w.ranges;
@@ -341,18 +327,25 @@ std::string Simulation::device_name() const {
             for (const auto& e : subdomains_) all += (all.empty() ? "" : "; ") + e->device_name();
             return all;
         }
+    if (domain_->ranks().size() > 1)
+        return std::to_string(subdomain_count()) + " subdomains on " + std::to_string(domain_->ranks().size()) +
+               " MPI ranks, on " + first;
     return subdomains_.size() == 1 ? first : std::to_string(subdomains_.size()) + " subdomains on " + first;
 }
 
 std::size_t Simulation::neighbour_list_bytes() const {
+    std::vector<std::size_t> local;
+    for (const auto& d : subdomains_) local.push_back(d->neighbour_list_bytes());
     std::size_t b = 0;
-    for (const auto& d : subdomains_) b += d->neighbour_list_bytes();
+    for (std::size_t x : allgather_values(domain_->ranks(), local)) b += x;
     return b;
 }
 
 std::size_t Simulation::bytes_allocated() const {
+    std::vector<std::size_t> local;
+    for (const auto& d : subdomains_) local.push_back(d->bytes_allocated());
     std::size_t b = 0;
-    for (const auto& d : subdomains_) b += d->bytes_allocated();
+    for (std::size_t x : allgather_values(domain_->ranks(), local)) b += x;
     return b;
 }
 
@@ -382,10 +375,25 @@ SnapshotData Simulation::to_snapshot(const std::vector<ParticleArrays>& parts) c
     return s;
 }
 
+// Every rank's particles, in subdomain order (so the same arrays as one process).
 SnapshotData Simulation::snapshot() {
     std::vector<ParticleArrays> parts;
     for (auto& d : subdomains_) parts.push_back(d->download());
-    return to_snapshot(parts);
+    RankGroup& ranks = domain_->ranks();
+    if (ranks.size() == 1) return to_snapshot(parts);
+    ParticleArrays mine;
+    for (const ParticleArrays& p : parts) {
+        mine.pos.insert(mine.pos.end(), p.pos.begin(), p.pos.end());
+        mine.velrho.insert(mine.velrho.end(), p.velrho.begin(), p.velrho.end());
+        mine.cell.insert(mine.cell.end(), p.cell.begin(), p.cell.end());
+        mine.id.insert(mine.id.end(), p.id.begin(), p.id.end());
+    }
+    ParticleArrays all;
+    all.pos = allgather_values(ranks, mine.pos);
+    all.velrho = allgather_values(ranks, mine.velrho);
+    all.cell = allgather_values(ranks, mine.cell);
+    all.id = allgather_values(ranks, mine.id);
+    return to_snapshot({all});
 }
 
 }  // namespace sph

@@ -3,7 +3,11 @@
 // diagnostics, advance (the Verlet update); with per-phase timing, NVTX ranges and the
 // blow-up check.
 // One subdomain is a plain single-device run; N subdomains split space into X slabs
-// (paper section 5), on N GPUs, on one GPU, or on the host.
+// (paper section 5), on N GPUs, on one GPU, or on the host, in one process or spread over the
+// ranks of an MPI job (multi/rank_group.hpp). The slabs' per-step life is the SlabDomain's;
+// this loop calls it the same way for one subdomain or many. Under MPI every rank runs this
+// loop on its own subdomains, and the records (statistics, per-subdomain times, counters)
+// are gathered so that every rank holds the whole run's, merged in subdomain order.
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,8 +16,8 @@
 #include "backend/subdomain.hpp"
 #include "core/error.hpp"
 #include "io/snapshot_writer.hpp"
-#include "multi/load_balancer.hpp"
-#include "multi/slab_exchange.hpp"
+#include "multi/rank_group.hpp"
+#include "multi/slab_domain.hpp"
 #include "neighbours/grid.hpp"
 #include "scenes/scene.hpp"
 
@@ -24,7 +28,10 @@ struct SolverOptions {
     int device = 0;          // GPU of a one-subdomain run
     int subdomains = 1;      // X slabs (logical devices)
     std::vector<int> device_map;  // GPU of each subdomain; empty: subdomain d on GPU d mod count
-    std::string balancer = "none";  // none, simple, every:K, threshold
+    std::string balancer = "none";  // none, simple, every:K, threshold, equal-time[:F]
+    // The processes the subdomains are spread over (one rank holds a contiguous block of
+    // them); nullptr: this process's group, process_ranks() (MPI when mpirun started it).
+    RankGroup* ranks = nullptr;
     TransportKind transport = TransportKind::automatic;  // how particles travel between subdomains
     SearchOptions search;
     double cfl = 0;       // 0: the scene's
@@ -93,12 +100,13 @@ public:
     long neighbour_list_builds() const { return list_builds_; }
     std::size_t neighbour_list_bytes() const;
     std::size_t fluid_count() const { return n_fluid_; }
-    int subdomain_count() const { return int(subdomains_.size()); }
-    const SlabDecomposition* decomposition() const { return slabs_.get(); }
+    int subdomain_count() const { return domain_->subdomains(); }  // on every rank
+    const SlabDecomposition* decomposition() const { return domain_->split() ? &domain_->decomposition() : nullptr; }
     // The transport of a multi-subdomain run ("" for one subdomain), and why it was chosen
     // when that is worth saying (a fallback).
-    std::string transport_name() const { return exchange_ ? exchange_->transport().name() : ""; }
-    const std::string& transport_note() const { return transport_note_; }
+    std::string transport_name() const { return domain_->transport_name(); }
+    const std::string& transport_note() const { return domain_->transport_note(); }
+    RankGroup& ranks() const { return domain_->ranks(); }
 
 private:
     double next_dt() const;
@@ -107,22 +115,19 @@ private:
     bool verlet_list_expired(double dt);
     void make_subdomains(const ParticleArrays& all);
     void exchange_particles(long step);
-    void rebalance(long step);
+    StepStats gather_stats(const std::vector<StepStats>& local) const;
+    void gather_record(const std::vector<PhaseTimes>& local_ms, const std::vector<std::size_t>& local_particles);
     SnapshotData to_snapshot(const std::vector<ParticleArrays>& parts) const;
     PhaseClock& clock(int d) { return options_.timing ? subdomains_[d]->clock() : untimed_; }
 
     Scene scene_;  // keeps params and metadata; positions are released after upload
     SolverOptions options_;
     Grid grid_;
-    std::vector<std::unique_ptr<Subdomain>> subdomains_;
-    std::unique_ptr<SlabDecomposition> slabs_;
-    std::unique_ptr<SlabDecomposition> exchanged_for_;  // the slabs the particles were last exchanged for
-    std::unique_ptr<SlabExchange> exchange_;
-    std::unique_ptr<LoadBalancer> balancer_;
+    std::vector<std::unique_ptr<Subdomain>> subdomains_;  // this rank's
+    std::unique_ptr<SlabDomain> domain_;
     SteadyPhaseClock host_clock_;
     NullPhaseClock untimed_;
     StatsLimits limits_;
-    std::string transport_note_;
     StepRecord record_;
     std::size_t n_total_ = 0, n_fluid_ = 0;
     long steps_since_build_ = 0, list_builds_ = 0;

@@ -32,6 +32,37 @@ TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
     }
 }
 
+// Several subdomains sharing one GPU against one subdomain on it: ghosts hold exactly the
+// particles of their cells, sorted by id, so each particle sums its neighbours in the same
+// order and the result is bitwise the same (as on the host, MultiDevice).
+TEST(CudaBackend, SeveralSubdomainsOnOneGpuMatchOneBitwise) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const Scene s = test::small_dambreak("0.02");
+    for (const char* balancer : {"none", "equal-time"}) {
+        SolverOptions one, many;
+        one.backend = many.backend = BackendKind::cuda;
+        one.fixed_dt = many.fixed_dt = 1.4e-4;
+        many.subdomains = 4;
+        many.device_map = {0, 0, 0, 0};
+        many.balancer = balancer;
+        Simulation a(s, one), b(s, many);
+        int moved = 0;
+        for (int k = 0; k < 200; ++k) {
+            a.step();
+            moved += b.step().slices_moved;
+        }
+        const SnapshotData sb = b.snapshot();
+        ASSERT_EQ(sb.id.size(), s.size()) << "particles lost or duplicated";
+        const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+        std::printf("cuda, 4 subdomains on one GPU (balancer %s, %d slices moved) vs 1, 200 steps: %zu particles "
+                    "differ, largest difference %.3g dp\n",
+                    balancer, moved, differ, test::largest_fluid_difference(pa, pb, s.n_boundary) / s.dp);
+        EXPECT_EQ(differ, 0u) << balancer;
+    }
+}
+
 // Two subdomains on the GPU(s) (one each where there are two) against one on the host, with
 // every transport: the particles must not depend on how they travelled.
 class CudaTransports : public ::testing::TestWithParam<TransportKind> {};

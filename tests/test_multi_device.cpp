@@ -1,7 +1,12 @@
 // N subdomains (X slabs with ghosts, migration and load balancing) against one subdomain.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <numeric>
+#include <random>
 #include <set>
+
+#include "backend/key_order.hpp"
 
 #include "test_support.hpp"
 
@@ -55,14 +60,42 @@ TEST_P(MultiDevice, MatchesOneSubdomainBitwise) {
 INSTANTIATE_TEST_SUITE_P(Slabs, MultiDevice,
                          ::testing::Values(MultiCase{2, "none", 1, false}, MultiCase{3, "none", 1, true},
                                            MultiCase{4, "simple", 1, true}, MultiCase{2, "threshold", 1, true},
-                                           MultiCase{3, "every:5", 2, true}, MultiCase{2, "simple", 2, false}),
+                                           MultiCase{3, "every:5", 2, true}, MultiCase{2, "simple", 2, false},
+                                           MultiCase{4, "equal-time", 1, true}),
                          [](const auto& info) {
                              std::string b = info.param.balancer;
                              for (char& c : b)
-                                 if (c == ':') c = '_';
+                                 if (c == ':' || c == '-') c = '_';
                              return std::to_string(info.param.subdomains) + "_" + b + "_n" +
                                     std::to_string(info.param.cells_per_support);
                          });
+
+// The host sort merges a few ascending runs (what an exchange leaves: the kept range and one
+// run per sender) instead of sorting; the order must be the full sort's, for 1 to 40 runs
+// (past 32 it sorts) and for a shuffled array.
+TEST(HostSort, MergingRunsGivesTheFullSortsOrder) {
+    std::mt19937 rng(7);
+    for (int runs : {1, 2, 3, 5, 17, 32, 33, 40, 0}) {
+        std::vector<std::uint64_t> keys;
+        if (runs == 0) {  // shuffled
+            keys.resize(5000);
+            std::iota(keys.begin(), keys.end(), 0);
+            std::shuffle(keys.begin(), keys.end(), rng);
+        }
+        for (int r = 0; r < runs; ++r) {
+            std::vector<std::uint64_t> run(1 + rng() % 300);
+            for (auto& k : run) k = (std::uint64_t(rng() % 64) << 32) | rng();  // (cell, id)
+            std::sort(run.begin(), run.end());
+            keys.insert(keys.end(), run.begin(), run.end());
+        }
+        std::vector<std::uint32_t> order(keys.size()), expected(keys.size());
+        std::iota(order.begin(), order.end(), 0u);
+        std::iota(expected.begin(), expected.end(), 0u);
+        order_by_keys(keys, order);
+        std::sort(expected.begin(), expected.end(), [&](auto x, auto y) { return keys[x] < keys[y]; });
+        EXPECT_EQ(order, expected) << runs << " runs";
+    }
+}
 
 TEST(MultiDeviceErrors, TooManySubdomainsForTheGridIsAClearError) {
     SolverOptions o;

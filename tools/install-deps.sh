@@ -5,7 +5,8 @@ set -euo pipefail
 
 need_apt=()
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in cmake g++ make libhdf5-dev libcli11-dev libtomlplusplus-dev libgtest-dev libbenchmark-dev valgrind; do
+# OpenMPI: runs across processes (mpirun -np R sphbench ...) and their tests; valgrind: perf-check.
+for pkg in cmake g++ make libhdf5-dev libcli11-dev libtomlplusplus-dev libgtest-dev libbenchmark-dev valgrind libopenmpi-dev openmpi-bin; do
   have_pkg "$pkg" || need_apt+=("$pkg")
 done
 if [ ${#need_apt[@]} -gt 0 ]; then

@@ -73,6 +73,8 @@ public:
 
     BackendKind backend() const override { return BackendKind::cuda; }
     std::string device_name() const override { return name_; }
+    int device() const override { return device_; }
+    void* stream() const override { return stream_; }
 
     void upload(const ParticleArrays& p) override {
         use_device();

@@ -4,6 +4,7 @@
 #include <numeric>
 #include <string>
 
+#include "backend/key_order.hpp"
 #include "backend/steady_phase_clock.hpp"
 #include "backend/subdomain.hpp"
 #include "core/error.hpp"
@@ -19,6 +20,8 @@ public:
 
     BackendKind backend() const override { return BackendKind::host; }
     std::string device_name() const override { return "host"; }
+    int device() const override { return -1; }
+    void* stream() const override { return nullptr; }
 
     void upload(const ParticleArrays& p) override {
         a_ = p;
@@ -92,7 +95,7 @@ public:
         for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(n); ++i)
             keys_[i] = (std::uint64_t(a_.cell[i]) << 32) | a_.id[i];
         std::iota(order_.begin(), order_.end(), 0u);
-        std::sort(order_.begin(), order_.end(), [&](std::uint32_t x, std::uint32_t y) { return keys_[x] < keys_[y]; });
+        order_by_keys(keys_, order_);
         gather(a_.pos);
         gather(a_.velrho);
         gather(a_.velrho_prev);

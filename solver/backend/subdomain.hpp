@@ -60,6 +60,10 @@ public:
     virtual ~Subdomain() = default;
     virtual BackendKind backend() const = 0;
     virtual std::string device_name() const = 0;
+    // Where its memory lives and its work is queued, for the transports: the GPU index (-1:
+    // host memory) and the cudaStream_t (nullptr on the host).
+    virtual int device() const = 0;
+    virtual void* stream() const = 0;
 
     virtual void upload(const ParticleArrays& particles) = 0;
     virtual ParticleArrays download() = 0;
@@ -82,9 +86,8 @@ public:
     // Not timed: counts the neighbour search's work for the current sorted state.
     virtual WorkCounters count_work() = 0;
 
-    // Multi-device support. After a sort, the particles of a cell range are one contiguous
-    // range (cells are x-major, so a range of X slices is a range of cells).
-    // Per-particle phases (update, forces, statistics) act on the particles of the owned cells;
+    // The port a decomposition (multi/) works through, in cells only: after a sort, the
+    // particles of a cell range are one contiguous range. Per-particle phases (update, forces, statistics) act on the particles of the owned cells;
     // the rest are ghosts of neighbours or particles that left the domain. Setting the owned
     // cells also marks every particle of another in-domain cell as a ghost (ghost_id_flag).
     virtual void set_owned_cells(std::uint32_t begin, std::uint32_t end) = 0;
@@ -94,7 +97,7 @@ public:
     virtual std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) = 0;
     virtual std::size_t size() const = 0;  // particles held, ghosts included
 
-    // What transports read and write (multi/particle_transport.hpp): sorted particles
+    // What transports read and write: sorted particles
     // [first, first + count) in place, and a receive area that accept_received() appends.
     virtual ParticleSpan particles(std::size_t first, std::size_t count) = 0;
     virtual ParticleSpan receive_area(std::size_t count) = 0;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
+#include <algorithm>
 #include <stdexcept>
 
 #include "core/error.hpp"
@@ -129,8 +131,79 @@ std::vector<int> ThresholdBalancer::decide(const SlabDecomposition& slabs, const
     return keep_min_slices(slabs, std::move(moves), urgency);
 }
 
+EqualTimeBalancer::EqualTimeBalancer(double tolerance) : tolerance_(tolerance) {
+    if (!(tolerance >= 0 && tolerance < 0.5))
+        throw InputError("load balancer equal-time:F needs a tolerance F in [0, 0.5), got " + std::to_string(tolerance));
+}
+
+std::string EqualTimeBalancer::name() const {
+    if (tolerance_ == default_tolerance) return "equal-time";
+    std::ostringstream s;
+    s << "equal-time:" << tolerance_;
+    return s.str();
+}
+
+std::vector<int> EqualTimeBalancer::decide(const SlabDecomposition& slabs, const BalanceInput& in) {
+    check_input(slabs, in);
+    const int devices = slabs.devices(), slices = slabs.slices(), min = slabs.min_slices();
+    std::vector<int> moves(devices - 1, 0);
+    // Time per particle per device; an empty device (or one that measured nothing) borrows
+    // the mean rate, so that slices it would take are not predicted free.
+    double all_time = 0;
+    long long all_particles = 0;
+    for (int d = 0; d < devices; ++d) {
+        all_time += in.device_times[d];
+        all_particles += slabs.particles(d, in.particles_per_slice);
+    }
+    if (all_particles == 0 || !(all_time > 0)) return moves;
+    const double mean_rate = all_time / double(all_particles);
+    std::vector<double> prefix(slices + 1, 0.0);  // predicted time of slices [0, s)
+    for (int d = 0; d < devices; ++d) {
+        const long long n = slabs.particles(d, in.particles_per_slice);
+        const double rate = n > 0 && in.device_times[d] > 0 ? in.device_times[d] / double(n) : mean_rate;
+        for (int s = slabs.begin(d); s < slabs.end(d); ++s)
+            prefix[s + 1] = double(in.particles_per_slice[s]) * rate;
+    }
+    for (int s = 0; s < slices; ++s) prefix[s + 1] += prefix[s];
+    const double total = prefix[slices], mean = total / devices;
+    int previous = 0;  // boundary k - 1 as decided
+    for (int k = 1; k < devices; ++k) {
+        const int lo = previous + min, hi = slices - (devices - k) * min;
+        const double target = mean * k;
+        const int now = slabs.boundaries()[k];
+        int best = now;
+        if (now < lo || now > hi || std::fabs(prefix[now] - target) > tolerance_ * mean) {
+            best = std::clamp(now, lo, hi);
+            for (int b = lo; b <= hi; ++b)  // ties go to the edge nearest the current one
+                if (std::fabs(prefix[b] - target) < std::fabs(prefix[best] - target) ||
+                    (std::fabs(prefix[b] - target) == std::fabs(prefix[best] - target) &&
+                     std::abs(b - now) < std::abs(best - now)))
+                    best = b;
+        }
+        moves[k - 1] = best - now;
+        previous = best;
+    }
+    return moves;
+}
+
 std::unique_ptr<LoadBalancer> make_balancer(const std::string& spec) {
     if (spec == "none") return std::make_unique<NoBalancer>();
+    if (spec == "equal-time") return std::make_unique<EqualTimeBalancer>();
+    const std::string equal_time = "equal-time:";
+    if (spec.rfind(equal_time, 0) == 0) {
+        const std::string f = spec.substr(equal_time.size());
+        std::size_t used = 0;
+        double tolerance = -1;
+        try {
+            tolerance = std::stod(f, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (f.empty() || used != f.size() || !(tolerance >= 0 && tolerance < 0.5))
+            throw InputError("load balancer '" + spec + "': equal-time:F needs a tolerance F in [0, 0.5), a fraction "
+                             "of the mean device time");
+        return std::make_unique<EqualTimeBalancer>(tolerance);
+    }
     if (spec == "simple") return std::make_unique<SimpleBalancer>();
     if (spec == "threshold") return std::make_unique<ThresholdBalancer>();
     const std::string every = "every:";
@@ -143,7 +216,7 @@ std::unique_ptr<LoadBalancer> make_balancer(const std::string& spec) {
             throw InputError("load balancer '" + spec + "': every:K needs a whole number K >= 1");
         return std::make_unique<PeriodicBalancer>(std::stol(k));
     }
-    throw InputError("unknown load balancer '" + spec + "': use none, simple, every:K (K >= 1) or threshold");
+    throw InputError("unknown load balancer '" + spec + "': use none, simple, every:K (K >= 1), threshold or equal-time[:F]");
 }
 
 }  // namespace sph

@@ -10,6 +10,10 @@
 //   every:K    the simple rule on steps that are multiples of K, nothing on the others
 //   threshold  equations 3 to 6: move only when the predicted time difference after the
 //              move is smaller than the current one
+//   equal-time not the paper's: every boundary goes, in one step, as many slices as needed to
+//              give each device the same predicted time (measured time per particle times
+//              the per-slice counts); it settles in a few steps where the rules above move
+//              one slice a step
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,8 +33,8 @@ public:
     virtual ~LoadBalancer();
     // The spec that make_balancer turns back into this balancer ("simple", "every:4", ...).
     virtual std::string name() const = 0;
-    // One move per pair (size devices - 1), each -1, 0 or +1 (+: the boundary moves right,
-    // the left device grows). Every move passes can_move, and together they leave every
+    // One move per pair (size devices - 1) in slices (+: the boundary moves right, the left
+    // device grows); the paper's balancers move -1, 0 or +1. Every move passes can_move, and together they leave every
     // device at least min_slices wide, so they may be applied in any order.
     virtual std::vector<int> decide(const SlabDecomposition& slabs, const BalanceInput& in) = 0;
 };
@@ -86,7 +90,29 @@ public:
     std::vector<int> decide(const SlabDecomposition& slabs, const BalanceInput& in) override;
 };
 
-// "none", "simple", "every:K" (K >= 1) or "threshold"; anything else is an InputError.
+// Places every boundary where the predicted times balance. A slice's predicted time is its
+// particle count times the time per particle its current owner measured (t_d / n_d; an empty
+// device borrows the mean rate of all), so it needs no model of the cost, only the measurement
+// the threshold rule uses. Boundary k goes to the slice edge whose prefix of predicted time is
+// closest to k / devices of the total, within the room min_slices leaves; it moves only if
+// its current edge misses that target by more than `tolerance` of the mean device time, which
+// keeps measurement noise below the tolerance from moving anything (no oscillation). Where the
+// cost per particle varies along X the first placement is off by the difference in rates; the
+// next steps, measuring the new slabs, correct it (a fixed-point iteration on the rates).
+class EqualTimeBalancer final : public LoadBalancer {
+public:
+    static constexpr double default_tolerance = 0.01;
+    explicit EqualTimeBalancer(double tolerance = default_tolerance);  // InputError outside [0, 0.5)
+    std::string name() const override;
+    std::vector<int> decide(const SlabDecomposition& slabs, const BalanceInput& in) override;
+
+private:
+    double tolerance_;
+};
+
+// "none", "simple", "every:K" (K >= 1), "threshold", "equal-time" or "equal-time:F" (F the
+// tolerance as a fraction of the mean device time, default 0.01); anything else is an
+// InputError.
 std::unique_ptr<LoadBalancer> make_balancer(const std::string& spec);
 
 }  // namespace sph

@@ -137,7 +137,7 @@ int SlabDecomposition::apply_moves(const std::vector<int>& moves) {
                                         std::to_string(next[d + 1] - next[d]) + " slices, under the minimum of " +
                                         std::to_string(min_slices_));
     int moved = 0;
-    for (int m : moves) moved += m != 0;
+    for (int m : moves) moved += std::abs(m);
     first_ = std::move(next);
     return moved;
 }

@@ -44,7 +44,7 @@ public:
     void move_boundary(int pair, int delta);
     // Applies one move per pair (a LoadBalancer's decision, size devices - 1). Checks the
     // resulting widths first, so either every move happens or none (std::invalid_argument).
-    // Returns how many boundaries moved.
+    // Returns how many slices changed owner (the sum of |move|).
     int apply_moves(const std::vector<int>& moves);
 
     // devices + 1 entries: device d owns [boundaries()[d], boundaries()[d + 1]); the first is

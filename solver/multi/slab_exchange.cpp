@@ -1,45 +1,127 @@
 #include "multi/slab_exchange.hpp"
 
 #include <algorithm>
+#include <cstring>
+
+#include "core/error.hpp"
 
 namespace sph {
+namespace {
 
-ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs) {
+// One entry of the transfer matrix: what subdomain g sends to k.
+struct TransferSize {
+    std::uint64_t first = 0, count = 0, owned = 0;  // owned: of count, particles k will own (migrating)
+};
+
+// A transfer's five arrays, one after another, in host memory (pos, velrho, velrho_prev,
+// cell, id): what a message between ranks carries.
+void pack(Bytes& out, const ParticleSpan& src, std::size_t count) {
+    auto put = [&](const auto* p) {
+        const std::size_t at = out.size(), bytes = count * sizeof(*p);
+        out.resize(at + bytes);
+        std::memcpy(out.data() + at, p, bytes);
+    };
+    put(src.pos);
+    put(src.velrho);
+    put(src.velrho_prev);
+    put(src.cell);
+    put(src.id);
+}
+
+std::size_t unpack(const Bytes& in, std::size_t at, const ParticleSpan& dst, std::size_t offset, std::size_t count) {
+    auto get = [&](auto* p) {
+        const std::size_t bytes = count * sizeof(*p);
+        if (at + bytes > in.size()) throw RunError("an MPI particle message is shorter than its transfer sizes");
+        std::memcpy(p + offset, in.data() + at, bytes);
+        at += bytes;
+    };
+    get(dst.pos);
+    get(dst.velrho);
+    get(dst.velrho_prev);
+    get(dst.cell);
+    get(dst.id);
+    return at;
+}
+
+}  // namespace
+
+ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs,
+                                        RankGroup& ranks, const SubdomainPlacement& placement) {
     ExchangeCounters c;
-    const int n = int(subs.size());
+    const int n = slabs.devices();
     const int slices = slabs.slices();
+    const int me = ranks.rank(), first_local = placement.first(me), local = int(subs.size());
     auto ext_begin = [&](int k) { return std::max(0, slabs.begin(k) - ghost_slices_); };
     auto ext_end = [&](int k) { return std::min(slices, slabs.end(k) + ghost_slices_); };
+    auto is_local = [&](int g) { return g >= first_local && g < first_local + local; };
 
     // Where each extended slab (and the owned part inside it) starts and ends in each sorted
-    // subdomain: one read of cell_start per subdomain.
-    std::vector<ParticleTransfer> transfers;
-    std::vector<std::size_t> incoming(n, 0);
-    for (int d = 0; d < n; ++d) {
+    // subdomain of this rank: one read of cell_start per subdomain.
+    std::vector<TransferSize> mine(std::size_t(local) * n);
+    for (int d = 0; d < local; ++d) {
         std::vector<std::uint32_t> cells;
         for (int k = 0; k < n; ++k)
             for (int slice : {ext_begin(k), slabs.begin(k), slabs.end(k), ext_end(k)}) cells.push_back(first_cell(slice));
         const std::vector<std::uint32_t> at = subs[d]->cell_starts(cells);
         for (int k = 0; k < n; ++k) {
-            if (k == d) continue;
+            if (k == first_local + d) continue;
             const std::uint32_t* b = &at[4 * k];  // extended begin, owned begin, owned end, extended end
-            const std::size_t count = b[3] - b[0];
-            if (count == 0) continue;
-            transfers.push_back({d, k, b[0], count, incoming[k]});
-            incoming[k] += count;
-            c.particles_migrated += b[2] - b[1];
-            c.ghosts_sent += count - (b[2] - b[1]);
+            mine[std::size_t(d) * n + k] = {b[0], std::uint64_t(b[3] - b[0]), std::uint64_t(b[2] - b[1])};
         }
     }
+    // Blocks in rank order are subdomains in order: row g of the whole matrix is sizes[g * n, ...).
+    const std::vector<TransferSize> sizes = allgather_values(ranks, mine);
+    if (int(sizes.size()) != n * n) throw RunError("the ranks disagree on the number of subdomains");
+
+    // Each destination's receive area holds its senders' particles in subdomain order.
+    std::vector<std::uint64_t> incoming(n, 0), offset(std::size_t(n) * n, 0);
+    for (int g = 0; g < n; ++g)
+        for (int k = 0; k < n; ++k) {
+            const TransferSize& t = sizes[std::size_t(g) * n + k];
+            offset[std::size_t(g) * n + k] = incoming[k];
+            incoming[k] += t.count;
+            c.particles_migrated += t.owned;
+            c.ghosts_sent += t.count - t.owned;
+        }
+    for (int k = 0; k < n; ++k) c.bytes += incoming[k] * exchanged_bytes_per_particle;
+
     std::vector<ParticleSpan> areas;
-    for (int k = 0; k < n; ++k) areas.push_back(subs[k]->receive_area(incoming[k]));
+    for (int d = 0; d < local; ++d) areas.push_back(subs[d]->receive_area(incoming[first_local + d]));
+    std::vector<ParticleTransfer> transfers;  // between this rank's subdomains, in local indices
+    std::vector<Bytes> sends(ranks.size());
+    for (int g = first_local; g < first_local + local; ++g)
+        for (int k = 0; k < n; ++k) {
+            const TransferSize& t = sizes[std::size_t(g) * n + k];
+            if (t.count == 0) continue;
+            if (is_local(k)) {
+                transfers.push_back({g - first_local, k - first_local, t.first, t.count, offset[std::size_t(g) * n + k]});
+            } else {
+                if (subs[g - first_local]->device() >= 0)
+                    throw RunError("particles of a GPU subdomain cannot go to another rank yet (MPI runs use the host backend)");
+                pack(sends[placement.rank_of(k)], subs[g - first_local]->particles(t.first, t.count), t.count);
+            }
+        }
     transport_->deliver(subs, transfers, areas);
-    for (int d = 0; d < n; ++d) {
-        subs[d]->keep_only_cells(first_cell(ext_begin(d)), first_cell(ext_end(d)));
+    if (ranks.size() > 1) {
+        const std::vector<Bytes> received = ranks.exchange(sends);
+        // Each sender packed its transfers by source subdomain, then destination: read them so.
+        for (int r = 0; r < ranks.size(); ++r) {
+            if (r == me) continue;
+            std::size_t at = 0;
+            for (int g = placement.first(r); g < placement.first(r) + placement.count(r); ++g)
+                for (int k = first_local; k < first_local + local; ++k) {
+                    const TransferSize& t = sizes[std::size_t(g) * n + k];
+                    if (t.count) at = unpack(received[r], at, areas[k - first_local], offset[std::size_t(g) * n + k], t.count);
+                }
+            if (at != received[r].size()) throw RunError("an MPI particle message is longer than its transfer sizes");
+        }
+    }
+    for (int d = 0; d < local; ++d) {
+        const int g = first_local + d;
+        subs[d]->keep_only_cells(first_cell(ext_begin(g)), first_cell(ext_end(g)));
         subs[d]->accept_received();
         subs[d]->sort_by_cell();
-        subs[d]->set_owned_cells(first_cell(slabs.begin(d)), first_cell(slabs.end(d)));
-        c.bytes += incoming[d] * exchanged_bytes_per_particle;
+        subs[d]->set_owned_cells(first_cell(slabs.begin(g)), first_cell(slabs.end(g)));
     }
     return c;
 }

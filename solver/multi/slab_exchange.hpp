@@ -9,12 +9,19 @@
 // particles" (section 5.3) taken one step further: migration and the ghost refresh are one
 // message per pair of subdomains, and no gather kernel is needed since a sort by cell makes
 // each extended slab one contiguous range.
+//
+// Subdomains may live on several ranks (SubdomainPlacement). Every rank learns the whole
+// matrix of transfer sizes by one allgather, so receive areas are laid out by sender in
+// subdomain order on every rank exactly as in one process; transfers between subdomains of
+// one rank go through the ParticleTransport, the others through the RankGroup.
 #include <memory>
 #include <vector>
 
 #include "backend/subdomain.hpp"
 #include "multi/particle_transport.hpp"
+#include "multi/rank_group.hpp"
 #include "multi/slab_decomposition.hpp"
+#include "multi/subdomain_placement.hpp"
 
 namespace sph {
 
@@ -27,10 +34,12 @@ public:
     SlabExchange(const GridView& grid, int ghost_slices, std::unique_ptr<ParticleTransport> transport)
         : grid_(grid), ghost_slices_(ghost_slices), transport_(std::move(transport)) {}
 
-    // Subdomains must be sorted and hold no ghosts. Afterwards each holds its owned particles,
-    // ghost copies of the slices within ghost_slices of its slab (marked as ghosts) and the
-    // particles that left the domain, sorted, with its owned cells set.
-    ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs);
+    // `subs` are this rank's subdomains (placement.first(ranks.rank()) onward). They must be
+    // sorted and hold no ghosts. Afterwards each holds its owned particles, ghost copies of
+    // the slices within ghost_slices of its slab (marked as ghosts) and the particles that
+    // left the domain, sorted, with its owned cells set. The counters cover every rank.
+    ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs,
+                              RankGroup& ranks, const SubdomainPlacement& placement);
 
     std::uint32_t slice_cells() const { return std::uint32_t(grid_.ny) * std::uint32_t(grid_.nz); }
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells(); }

@@ -1,4 +1,4 @@
-// The GPU transports of multi/particle_transport.hpp: peer copies, staging through host
+// The GPU transports of particle_transport.hpp: peer copies, staging through host
 // memory, and NCCL (nccl_library.cuh loads libnccl only when that transport is asked for).
 #include <algorithm>
 #include <set>
@@ -20,12 +20,11 @@ class StreamEvents {
 public:
     explicit StreamEvents(const std::vector<std::unique_ptr<Subdomain>>& subs) {
         for (auto& s : subs) {
-            const ParticleSpan probe = s->particles(0, 0);
-            SPH_CUDA_CHECK(cudaSetDevice(probe.device));
+            SPH_CUDA_CHECK(cudaSetDevice(s->device()));
             cudaEvent_t e = nullptr;
             SPH_CUDA_CHECK(cudaEventCreateWithFlags(&e, cudaEventDisableTiming));
             events_.push_back(e);
-            devices_.push_back(probe.device);
+            devices_.push_back(s->device());
         }
     }
     ~StreamEvents() {
@@ -65,7 +64,7 @@ public:
                  const std::vector<ParticleSpan>& areas) override {
         const auto pairs = pairs_of(transfers);
         // The source writes into the destination's receive area: wait until it is free.
-        for (const auto& [from, to] : pairs) events_.order_after(to, stream_of(areas[to]), stream_of(subs[from]->particles(0, 0)));
+        for (const auto& [from, to] : pairs) events_.order_after(to, stream_of(areas[to]), static_cast<cudaStream_t>(subs[from]->stream()));
         for (const ParticleTransfer& t : transfers) {
             const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
             const ParticleSpan& dst = areas[t.to];
@@ -81,7 +80,7 @@ public:
             copy(dst.id, src.id);
         }
         // The destination appends the received particles only after they have arrived.
-        for (const auto& [from, to] : pairs) events_.order_after(from, stream_of(subs[from]->particles(0, 0)), stream_of(areas[to]));
+        for (const auto& [from, to] : pairs) events_.order_after(from, static_cast<cudaStream_t>(subs[from]->stream()), stream_of(areas[to]));
     }
 
 private:
@@ -141,7 +140,7 @@ class NcclTransport final : public ParticleTransport {
 public:
     explicit NcclTransport(const std::vector<std::unique_ptr<Subdomain>>& subs) {
         std::vector<int> devices;
-        for (auto& s : subs) devices.push_back(s->particles(0, 0).device);
+        for (auto& s : subs) devices.push_back(s->device());
         if (std::set<int>(devices.begin(), devices.end()).size() != devices.size())
             throw InputError("the nccl transport needs one GPU per subdomain (NCCL has one rank per GPU); use "
                              "--transport peer when subdomains share a GPU");
@@ -202,7 +201,7 @@ std::unique_ptr<ParticleTransport> make_cuda_transport(TransportKind kind,
                                                        const std::vector<std::unique_ptr<Subdomain>>& subs,
                                                        std::string& note) {
     std::vector<int> devices;
-    for (auto& s : subs) devices.push_back(s->particles(0, 0).device);
+    for (auto& s : subs) devices.push_back(s->device());
     std::sort(devices.begin(), devices.end());
     devices.erase(std::unique(devices.begin(), devices.end()), devices.end());
     if (kind == TransportKind::staged) return std::make_unique<StagedTransport>();

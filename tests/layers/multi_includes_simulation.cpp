@@ -1,0 +1,2 @@
+// Must not compile: multi/ reaching up into the simulation layer.
+#include "simulation.hpp"
