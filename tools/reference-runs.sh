@@ -65,9 +65,8 @@ forceloop)
         echo "== $bin simulate $args (repetition $rep)" | tee -a "$out/benchmarks.txt"
         $bin simulate $args --steps 300 --warmup 20 --backend cuda --quiet --out "$out/simulate-$bin" 2>&1 |
           tee -a "$out/benchmarks.txt"
-        cp "$out/simulate-$bin/dsph-dambreak_steps.csv" "$out/simulate-$bin/$(echo "$args" | tr ' =' '__')_rep$rep.csv" \
-          2>/dev/null || cp "$out/simulate-$bin/armadillo_steps.csv" \
-          "$out/simulate-$bin/$(echo "$args" | tr ' =' '__')_rep$rep.csv" 2>/dev/null
+        scene=${args%% *}  # the step CSV is named after the scene: keep a copy per case
+        cp "$out/simulate-$bin/${scene}_steps.csv" "$out/simulate-$bin/$(echo "$args" | tr ' =' '__')_rep$rep.csv"
       done
     done
   done
