@@ -32,13 +32,10 @@ struct CellSearch {
     static constexpr int n = N;
     static constexpr bool merge = Merge;
 
-    // cell_start has cell_count() + 1 entries: cell c holds sorted particles
-    // [cell_start[c], cell_start[c + 1]).
-    template <class Visit>
-    SPH_HD static void visit(const GridView& g, const std::uint32_t* cell_start, const std::uint32_t* cell,
-                             int3v c, Visit&& visit) {
-        const int z0 = c.z - N < 0 ? 0 : c.z - N;
-        const int z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
+    // f(dx, dy, column) for each (x, y) column of the stencil around cell c that lies in the
+    // grid (wrapped across periodic x and y faces), column = the index of its cell z = 0.
+    template <class F>
+    SPH_HD static void for_each_column(const GridView& g, int3v c, F&& f) {
         for (int dx = -N; dx <= N; ++dx) {
             int x = c.x + dx;
             if (x < 0 || x >= g.nx) {
@@ -51,21 +48,32 @@ struct CellSearch {
                     if (!g.periodic_y) continue;
                     y = wrap_index(y, g.ny);
                 }
-                const std::uint32_t column = g.encode(x, y, 0);
-                if (g.periodic_z) {
-                    visit_periodic_column(g, cell_start, cell, c.z, column, dx, dy, visit);
-                } else if constexpr (Merge) {
-                    const std::uint32_t end = cell_start[column + z1 + 1];
-                    const int ref = int(column) + c.z;
-                    for (std::uint32_t j = cell_start[column + z0]; j < end; ++j) visit(j, dx, dy, int(cell[j]) - ref);
-                } else {
-                    for (int z = z0; z <= z1; ++z) {
-                        const std::uint32_t end = cell_start[column + z + 1];
-                        for (std::uint32_t j = cell_start[column + z]; j < end; ++j) visit(j, dx, dy, z - c.z);
-                    }
-                }
+                f(dx, dy, g.encode(x, y, 0));
             }
         }
+    }
+
+    // cell_start has cell_count() + 1 entries: cell c holds sorted particles
+    // [cell_start[c], cell_start[c + 1]).
+    template <class Visit>
+    SPH_HD static void visit(const GridView& g, const std::uint32_t* cell_start, const std::uint32_t* cell,
+                             int3v c, Visit&& visit) {
+        const int z0 = c.z - N < 0 ? 0 : c.z - N;
+        const int z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
+        for_each_column(g, c, [&](int dx, int dy, std::uint32_t column) {
+            if (g.periodic_z) {
+                visit_periodic_column(g, cell_start, cell, c.z, column, dx, dy, visit);
+            } else if constexpr (Merge) {
+                const std::uint32_t end = cell_start[column + z1 + 1];
+                const int ref = int(column) + c.z;
+                for (std::uint32_t j = cell_start[column + z0]; j < end; ++j) visit(j, dx, dy, int(cell[j]) - ref);
+            } else {
+                for (int z = z0; z <= z1; ++z) {
+                    const std::uint32_t end = cell_start[column + z + 1];
+                    for (std::uint32_t j = cell_start[column + z]; j < end; ++j) visit(j, dx, dy, z - c.z);
+                }
+            }
+        });
     }
 
     // One (x, y) column along a periodic z. Merged, the unwrapped run [cz - N, cz + N] is cut
@@ -106,44 +114,31 @@ struct CellSearch {
         constexpr bool merged = Merge && !FluidOnly;
         const int z0 = c.z - N < 0 ? 0 : c.z - N;
         const int z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
-        for (int dx = -N; dx <= N; ++dx) {
-            int x = c.x + dx;
-            if (x < 0 || x >= g.nx) {
-                if (!g.periodic_x) continue;
-                x = wrap_index(x, g.nx);
-            }
-            for (int dy = -N; dy <= N; ++dy) {
-                int y = c.y + dy;
-                if (y < 0 || y >= g.ny) {
-                    if (!g.periodic_y) continue;
-                    y = wrap_index(y, g.ny);
-                }
-                const std::uint32_t column = g.encode(x, y, 0);
-                if (g.periodic_z) {
-                    if constexpr (merged) {
-                        for (int u = c.z - N; u <= c.z + N;) {  // the pieces of visit_periodic_column
-                            const int w0 = wrap_index(u, g.nz);
-                            const int shift = u - w0;
-                            const int w1 = c.z + N - shift < g.nz - 1 ? c.z + N - shift : g.nz - 1;
-                            f(CellRange{cell_start[column + w0], cell_start[column + w1 + 1], dx, dy, 0,
-                                        int(column) + c.z - shift, true});
-                            u += w1 - w0 + 1;
-                        }
-                    } else {
-                        for (int dz = -N; dz <= N; ++dz) {
-                            const std::uint32_t cz = column + wrap_index(c.z + dz, g.nz);
-                            f(CellRange{begin_of[cz], cell_start[cz + 1], dx, dy, dz, 0, false});
-                        }
+        for_each_column(g, c, [&](int dx, int dy, std::uint32_t column) {
+            if (g.periodic_z) {
+                if constexpr (merged) {
+                    for (int u = c.z - N; u <= c.z + N;) {  // the pieces of visit_periodic_column
+                        const int w0 = wrap_index(u, g.nz);
+                        const int shift = u - w0;
+                        const int w1 = c.z + N - shift < g.nz - 1 ? c.z + N - shift : g.nz - 1;
+                        f(CellRange{cell_start[column + w0], cell_start[column + w1 + 1], dx, dy, 0,
+                                    int(column) + c.z - shift, true});
+                        u += w1 - w0 + 1;
                     }
-                } else if constexpr (merged) {
-                    f(CellRange{cell_start[column + z0], cell_start[column + z1 + 1], dx, dy, 0, int(column) + c.z,
-                                true});
                 } else {
-                    for (int z = z0; z <= z1; ++z)
-                        f(CellRange{begin_of[column + z], cell_start[column + z + 1], dx, dy, z - c.z, 0, false});
+                    for (int dz = -N; dz <= N; ++dz) {
+                        const std::uint32_t cz = column + wrap_index(c.z + dz, g.nz);
+                        f(CellRange{begin_of[cz], cell_start[cz + 1], dx, dy, dz, 0, false});
+                    }
                 }
+            } else if constexpr (merged) {
+                f(CellRange{cell_start[column + z0], cell_start[column + z1 + 1], dx, dy, 0, int(column) + c.z,
+                            true});
+            } else {
+                for (int z = z0; z <= z1; ++z)
+                    f(CellRange{begin_of[column + z], cell_start[column + z + 1], dx, dy, z - c.z, 0, false});
             }
-        }
+        });
     }
 
     // How many particle ranges visit() reads around cell c (cells, or merged z-runs).
