@@ -8,9 +8,6 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
 
-#include <cstdlib>
-#include <string>
-
 
 #include "backend/cuda_drivers.cuh"
 #include "backend/cuda_check.cuh"
@@ -69,9 +66,11 @@ __global__ void fluid_begin_mark_kernel(const real4* velrho, const std::uint32_t
     if (k == 0 || cell[k - 1] != c || is_boundary(velrho[k - 1])) fluid_begin[c] = k;
 }
 
-// The plain force loop: one thread per particle visiting its stencil (particle_force), walls
-// only the fluid of each cell; the pair body runs inside the search, at the lanes that have a
-// neighbour at that candidate (about 15 of 32). Kept for SPH_FORCE_LOOP=per-thread.
+// The force loop: one thread per particle visiting its stencil (particle_force), walls only
+// the fluid of each cell; the pair body runs inside the search, at the lanes that have a
+// neighbour at that candidate (about 15 of 32). Four designs that gave the body fuller warps
+// measured slower on an H200 (bench/FORCE_LOOP_NOTES.md, changes 1, 2, 3 and 5); they are in
+// git history.
 template <class Kernel, class Search, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size)
     forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
@@ -79,73 +78,6 @@ __global__ void __launch_bounds__(Policy::block_size)
     if (i >= *range.end) return;
     const Kernel kernel(p.h);
     force[i] = particle_force<Kernel, Search, Diffusion>(i, in, p, kernel);
-}
-
-// A neighbour's cell offset (each component in [-4, 4], cells per support at most 4) in
-// 4 bits a component.
-__device__ __forceinline__ std::uint16_t pack_offset(int dx, int dy, int dz) {
-    return std::uint16_t((dx + 8) | ((dy + 8) << 4) | ((dz + 8) << 8));
-}
-__device__ __forceinline__ int offset_x(unsigned o) { return int(o & 15u) - 8; }
-__device__ __forceinline__ int offset_y(unsigned o) { return int((o >> 4) & 15u) - 8; }
-__device__ __forceinline__ int offset_z(unsigned o) { return int(o >> 8) - 8; }
-
-// The force loop with the pair body deferred: the same per-thread search (visit_ranges, in
-// visit()'s order), but a candidate inside the support only goes into the thread's column of
-// a shared buffer. After each stencil range the lanes that are together there vote, and when
-// one has half a buffer they all run the pair body over their buffers: the body runs on most
-// lanes at once instead of at those with a neighbour at the same candidate. Lanes of one cell
-// walk the same ranges, so they meet after each. Every lane drains only its own buffer, so the
-// result does not depend on which lanes vote together; a full buffer drains at once. Sums
-// come out in visit()'s order, as in forces_kernel.
-template <class Kernel, class Search, bool Diffusion, class Policy>
-__global__ void __launch_bounds__(Policy::block_size)
-    forces_deferred_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
-    __shared__ std::uint32_t slot_j[Policy::chunk][Policy::block_size];
-    __shared__ std::uint16_t slot_offset[Policy::chunk][Policy::block_size];
-    const std::uint32_t i = *range.begin + blockIdx.x * Policy::block_size + threadIdx.x;
-    if (i >= *range.end) return;
-    const Kernel kernel(p.h);
-    PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
-    const real3 cs = in.grid.cell_size;
-    const int3v c = in.grid.decode(in.cell[i]);
-    int count = 0;
-    auto drain = [&] {
-        for (int k = 0; k < count; ++k) {
-            const std::uint32_t j = slot_j[k][threadIdx.x];
-            const unsigned o = slot_offset[k][threadIdx.x];
-            const real3 rij = separation(sums.pos_i, in.pos[j], offset_x(o), offset_y(o), offset_z(o), cs);
-            sums.add(j, rij, dot(rij, rij));
-        }
-        count = 0;
-    };
-    auto take = [&](const CellRange& r) {
-        for (std::uint32_t j = r.begin; j < r.end; ++j) {
-            const int dz = r.merged ? int(in.cell[j]) - r.z_ref : r.dz;
-            const real3 rij = separation(sums.pos_i, in.pos[j], r.dx, r.dy, dz, cs);
-            const real r2 = dot(rij, rij);
-            if (r2 < p.support2 && r2 > real(1e-18) * p.support2) {
-                slot_j[count][threadIdx.x] = j;
-                slot_offset[count][threadIdx.x] = pack_offset(r.dx, r.dy, dz);
-                if (++count == Policy::chunk) drain();
-            }
-        }
-        if (__any_sync(__activemask(), count >= Policy::drain_at)) drain();
-    };
-    if (sums.fluid_i) Search::template visit_ranges<false>(in.grid, in.cell_start, in.cell_start, c, take);
-    else Search::template visit_ranges<true>(in.grid, in.cell_start, in.fluid_begin, c, take);
-    drain();
-    force[i] = sums.result();
-}
-
-// SPH_FORCE_LOOP=per-thread selects the plain loop (read once): a switch for timing both
-// loops on one build, not a setting of runs.
-bool plain_force_loop_requested() {
-    static const bool requested = [] {
-        const char* v = std::getenv("SPH_FORCE_LOOP");
-        return v != nullptr && std::string(v) == "per-thread";
-    }();
-    return requested;
 }
 
 template <class Kernel, class Search>
@@ -273,19 +205,13 @@ void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, 
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    // The deferred loop needs fluid_begin (walls) and the cell offsets it packs in 4 bits.
-    const bool deferred = in.fluid_begin != nullptr && !plain_force_loop_requested();
     dispatch_physics(cfg.kernel, cfg.diffusion, cfg.search, [&](auto k, auto srch, auto diffusion) {
         using Kernel = typename decltype(k)::type;
         using Search = typename decltype(srch)::type;
         constexpr bool Diffusion = decltype(diffusion)::value;
         using Policy = ForceLoopPolicy;
-        if (deferred)
-            forces_deferred_kernel<Kernel, Search, Diffusion, Policy>
-                <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
-        else
-            forces_kernel<Kernel, Search, Diffusion, Policy>
-                <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
+        forces_kernel<Kernel, Search, Diffusion, Policy>
+            <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

@@ -10,17 +10,9 @@ struct ElementwisePolicy {
     static constexpr int block_size = 128;
 };
 
-// The force loop (cuda_kernels.cu, forces_deferred_kernel and forces_kernel): one thread per
-// particle. The deferred loop's threads each own a column of `chunk` neighbour slots in
-// shared memory (6 bytes a slot: the index and the packed cell offset): 24 KiB a block for
-// 128 x 32, which keeps 8 blocks (1024 threads) of an SM of Hopper's 228 KiB resident. The
-// lanes drain their buffers through the pair body when one holds `drain_at` neighbours after a
-// stencil range; half the buffer leaves room for the next range's hits before a lane must drain
-// alone.
+// The force loop (cuda_kernels.cu, forces_kernel): one thread per particle.
 struct ForceLoopPolicySm90 {
     static constexpr int block_size = 128;
-    static constexpr int chunk = 32;
-    static constexpr int drain_at = 16;
 };
 
 // The searches without a gather step (Verlet lists, list builds, work counters, shifting).
