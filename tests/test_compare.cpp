@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "scratch_folder.hpp"
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "csv_table.hpp"
@@ -46,15 +47,9 @@ struct FakeRun {
     long candidates = 123456;
 };
 
-class CompareTest : public ::testing::Test {
+class CompareTest : public test::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("sph_test_compare_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
+    CompareTest() : ScratchFolderTest("sph_test_compare_") {}
 
     // A result folder as `run` writes it: runs.csv plus one step file per run, each step's
     // time drawn around the run's update time with 3% noise.
@@ -107,7 +102,6 @@ protected:
         return path;
     }
 
-    fs::path dir_;
 };
 
 const MetricComparison* find(const Comparison& c, const std::string& run, const std::string& metric) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "scratch_folder.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "core/error.hpp"
@@ -28,15 +29,9 @@ std::string after(const std::string& message, const std::string& prefix_end) {
     return at == std::string::npos ? "" : message.substr(at + prefix_end.size());
 }
 
-class SettingsTableTest : public ::testing::Test {
+class SettingsTableTest : public test::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("sph_test_settings_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
+    SettingsTableTest() : ScratchFolderTest("sph_test_settings_") {}
 
     // The flag given to a command made of the table's flags: the error message ("" when
     // accepted) and, when accepted, the value stored under the key.
@@ -82,7 +77,6 @@ protected:
         return "";
     }
 
-    fs::path dir_;
 };
 
 struct Probe {

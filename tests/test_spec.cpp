@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "scratch_folder.hpp"
 #include "core/error.hpp"
 #include "experiment_spec.hpp"
 
@@ -15,15 +16,9 @@ namespace fs = std::filesystem;
 namespace sph {
 namespace {
 
-class SpecTest : public ::testing::Test {
+class SpecTest : public test::ScratchFolderTest {
 protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() / ("sph_test_spec_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
+    SpecTest() : ScratchFolderTest("sph_test_spec_") {}
 
     std::string write(const std::string& text, const std::string& name = "spec.toml") {
         const std::string path = (dir_ / name).string();
@@ -42,7 +37,6 @@ protected:
         return "";
     }
 
-    fs::path dir_;
 };
 
 const char* valid_spec = R"(name = "sweepy"
