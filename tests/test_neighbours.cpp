@@ -84,17 +84,17 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, NeighbourSearch,
                              return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells");
                          });
 
-// The GPU force loop reads the stencil as ranges (CellSearch::visit_ranges): expanded, they
-// give the candidates of visit() in the same order with the same cell offsets; for a boundary
-// particle (fluid only, from each cell's first fluid particle) exactly visit()'s fluid
-// candidates. Half the particles are boundary, so cells mix both kinds; open and periodic.
+// A boundary particle on the GPU walks only the fluid of each stencil cell
+// (CellSearch::visit_fluid_cells, from each cell's first fluid particle): exactly visit()'s
+// fluid candidates, in visit()'s order, with the same cell offsets. Half the particles are
+// boundary, so cells mix both kinds; open and periodic grids, merged or not.
 struct RangeCase {
     int n;
     bool merge, periodic;
 };
-class StencilRanges : public ::testing::TestWithParam<RangeCase> {};
+class StencilFluidCells : public ::testing::TestWithParam<RangeCase> {};
 
-TEST_P(StencilRanges, ExpandToVisitsCandidatesAndBoundaryParticlesSkipOnlyBoundaryOnes) {
+TEST_P(StencilFluidCells, GiveBoundaryParticlesExactlyVisitsFluidCandidates) {
     const RangeCase rc = GetParam();
     Scene s = test::random_scene(1200, 600, 0.3, 0.02, 777u + rc.n * 4 + rc.merge * 2 + rc.periodic);
     const SearchOptions opt{rc.n, rc.merge};
@@ -125,31 +125,29 @@ TEST_P(StencilRanges, ExpandToVisitsCandidatesAndBoundaryParticlesSkipOnlyBounda
     dispatch_search(opt, [&](auto tag) {
         using Search = typename decltype(tag)::type;
         for (std::uint32_t i = 0; i < a.size(); ++i) {
-            const bool fluid_only = is_boundary(a.velrho[i]);
+            if (!is_boundary(a.velrho[i])) continue;
             const int3v c = g.view.decode(a.cell[i]);
             Visit expected, got;
             Search::visit(g.view, start.data(), a.cell.data(), c, [&](std::uint32_t j, int dx, int dy, int dz) {
-                if (fluid_only && is_boundary(a.velrho[j])) {
+                if (is_boundary(a.velrho[j])) {
                     ++skipped;
                     return;
                 }
                 expected.push_back(entry(j, dx, dy, dz));
             });
-            auto expand = [&](const CellRange& r) {
-                for (std::uint32_t j = r.begin; j < r.end; ++j)
-                    got.push_back(entry(j, r.dx, r.dy, r.merged ? int(a.cell[j]) - r.z_ref : r.dz));
-            };
-            if (fluid_only) Search::template visit_ranges<true>(g.view, start.data(), fluid_begin.data(), c, expand);
-            else Search::template visit_ranges<false>(g.view, start.data(), start.data(), c, expand);
-            ASSERT_EQ(got, expected) << "particle " << i << (fluid_only ? " (boundary)" : " (fluid)");
-            boundary_particles += fluid_only;
+            Search::visit_fluid_cells(g.view, start.data(), fluid_begin.data(), c,
+                                      [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, int dz) {
+                                          for (std::uint32_t j = begin; j < end; ++j) got.push_back(entry(j, dx, dy, dz));
+                                      });
+            ASSERT_EQ(got, expected) << "boundary particle " << i;
+            ++boundary_particles;
         }
     });
     EXPECT_GT(boundary_particles, 0u);
     EXPECT_GT(skipped, 0u);  // boundary particles did have boundary candidates to skip
 }
 
-INSTANTIATE_TEST_SUITE_P(AllStrategies, StencilRanges,
+INSTANTIATE_TEST_SUITE_P(AllStrategies, StencilFluidCells,
                          ::testing::Values(RangeCase{1, false, false}, RangeCase{1, true, false},
                                            RangeCase{2, false, false}, RangeCase{2, true, false},
                                            RangeCase{4, true, false}, RangeCase{1, false, true},

@@ -48,7 +48,7 @@ accuracy)
   ;;
 forceloop)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
-  sph_tests --gtest_filter='*Forces.*:CudaBackend.*:*CudaTransports*:*StencilRanges*' >"$out/cuda_tests.log" 2>&1
+  sph_tests --gtest_filter='*Forces.*:CudaBackend.*:*CudaTransports*:*StencilFluidCells*' >"$out/cuda_tests.log" 2>&1
   grep -E 'cuda |forces against|OK \]|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_tests.txt"
   cases=("dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2"
          "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2"

@@ -17,16 +17,6 @@
 
 namespace sph {
 
-// One contiguous range of sorted particles in a search stencil: candidates j in [begin, end)
-// lie at cell offset (dx, dy, dz) from the particle's cell, or, in a merged z-run, at
-// (dx, dy, cell[j] - z_ref).
-struct CellRange {
-    std::uint32_t begin, end;
-    int dx, dy, dz;
-    int z_ref;
-    bool merged;
-};
-
 template <int N, bool Merge>
 struct CellSearch {
     static constexpr int n = N;
@@ -102,41 +92,25 @@ struct CellSearch {
         }
     }
 
-    // The particle ranges of visit(), in visit()'s order, one call f(CellRange) each, so that a
-    // caller can share the candidates of one range among threads (the GPU force loop gives a
-    // warp one particle and its lanes consecutive candidates). FluidOnly: every stencil cell on
-    // its own, from begin_of[cell] (a cell's first fluid particle: see fluid_begin) to the
-    // cell's end, for boundary particles, which interact with fluid only. Empty ranges are
+    // The fluid part of each stencil cell around c, for a boundary particle (which interacts
+    // with fluid only): f(begin, end, dx, dy, dz) per cell, in visit()'s cell order, with
+    // [begin, end) = [fluid_begin[cell], cell_start[cell + 1]) (the sort puts each cell's
+    // boundary particles first: see fluid_begin) and (dx, dy, dz) the cell's offset from c. Cell
+    // by cell whatever Merge says: the fluid of a z-run is not one range. Empty cells are
     // passed too (they cost the caller a compare).
-    template <bool FluidOnly, class F>
-    SPH_HD static void visit_ranges(const GridView& g, const std::uint32_t* cell_start, const std::uint32_t* begin_of,
-                                    int3v c, F&& f) {
-        constexpr bool merged = Merge && !FluidOnly;
+    template <class F>
+    SPH_HD static void visit_fluid_cells(const GridView& g, const std::uint32_t* cell_start,
+                                         const std::uint32_t* fluid_begin, int3v c, F&& f) {
         const int z0 = c.z - N < 0 ? 0 : c.z - N;
         const int z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
         for_each_column(g, c, [&](int dx, int dy, std::uint32_t column) {
             if (g.periodic_z) {
-                if constexpr (merged) {
-                    for (int u = c.z - N; u <= c.z + N;) {  // the pieces of visit_periodic_column
-                        const int w0 = wrap_index(u, g.nz);
-                        const int shift = u - w0;
-                        const int w1 = c.z + N - shift < g.nz - 1 ? c.z + N - shift : g.nz - 1;
-                        f(CellRange{cell_start[column + w0], cell_start[column + w1 + 1], dx, dy, 0,
-                                    int(column) + c.z - shift, true});
-                        u += w1 - w0 + 1;
-                    }
-                } else {
-                    for (int dz = -N; dz <= N; ++dz) {
-                        const std::uint32_t cz = column + wrap_index(c.z + dz, g.nz);
-                        f(CellRange{begin_of[cz], cell_start[cz + 1], dx, dy, dz, 0, false});
-                    }
+                for (int dz = -N; dz <= N; ++dz) {
+                    const std::uint32_t cz = column + wrap_index(c.z + dz, g.nz);
+                    f(fluid_begin[cz], cell_start[cz + 1], dx, dy, dz);
                 }
-            } else if constexpr (merged) {
-                f(CellRange{cell_start[column + z0], cell_start[column + z1 + 1], dx, dy, 0, int(column) + c.z,
-                            true});
             } else {
-                for (int z = z0; z <= z1; ++z)
-                    f(CellRange{begin_of[column + z], cell_start[column + z + 1], dx, dy, z - c.z, 0, false});
+                for (int z = z0; z <= z1; ++z) f(fluid_begin[column + z], cell_start[column + z + 1], dx, dy, z - c.z);
             }
         });
     }

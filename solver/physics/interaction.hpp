@@ -130,12 +130,13 @@ SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const Physic
     const real3 cs = in.grid.cell_size;
     const int3v c = in.grid.decode(in.cell[i]);
     if (!sums.fluid_i && in.fluid_begin != nullptr) {
-        Search::template visit_ranges<true>(in.grid, in.cell_start, in.fluid_begin, c, [&](const CellRange& r) {
-            for (std::uint32_t j = r.begin; j < r.end; ++j) {
-                const real3 rij = separation(sums.pos_i, in.pos[j], r.dx, r.dy, r.dz, cs);
-                sums.add(j, rij, dot(rij, rij));
-            }
-        });
+        Search::visit_fluid_cells(in.grid, in.cell_start, in.fluid_begin, c,
+                                  [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, int dz) {
+                                      for (std::uint32_t j = begin; j < end; ++j) {
+                                          const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
+                                          sums.add(j, rij, dot(rij, rij));
+                                      }
+                                  });
     } else {
         Search::visit(in.grid, in.cell_start, in.cell, c, [&](std::uint32_t j, int dx, int dy, int dz) {
             const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
