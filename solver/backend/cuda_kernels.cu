@@ -67,17 +67,17 @@ __global__ void fluid_begin_mark_kernel(const real4* velrho, const std::uint32_t
 }
 
 // The force loop: one thread per particle visiting its stencil (particle_force), walls only
-// the fluid of each cell; the pair body runs inside the search, at the lanes that have a
-// neighbour at that candidate (about 15 of 32). Four designs that gave the body fuller warps
-// measured slower on an H200 (bench/FORCE_LOOP_NOTES.md, changes 1, 2, 3 and 5); they are in
-// git history.
+// the fluid of each cell, each range in chunks of 32 candidates tested first and their
+// neighbours' pair bodies run after (add_range_by_hit_masks). Four designs that gave the body
+// fuller warps across ranges measured slower on an H200 (bench/FORCE_LOOP_NOTES.md, changes
+// 1, 2, 3 and 5); they are in git history.
 template <class Kernel, class Search, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size)
     forces_kernel(ForceInputs in, PhysicsParams p, real4* __restrict__ force, ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * Policy::block_size + threadIdx.x;
     if (i >= *range.end) return;
     const Kernel kernel(p.h);
-    force[i] = particle_force<Kernel, Search, Diffusion>(i, in, p, kernel);
+    force[i] = particle_force<Kernel, Search, Diffusion, true>(i, in, p, kernel);
 }
 
 template <class Kernel, class Search>

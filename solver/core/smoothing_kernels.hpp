@@ -36,12 +36,15 @@ struct CubicSpline {
         const real t = 2 - q;
         return norm * real(0.25) * t * t * t;
     }
+    // Both pieces evaluated and one selected: lanes of a warp sit on both sides of q = 1, and
+    // two branches cost the GPU both paths plus their bookkeeping.
     SPH_HD real grad_factor(real r) const {
         const real q = r * inv_h;
         if (q >= 2) return 0;
-        if (q < 1) return norm * (real(-3) + real(2.25) * q) * inv_h * inv_h;  // (-3q + 2.25q^2)/h / r
+        const real inner = norm * (real(-3) + real(2.25) * q) * inv_h * inv_h;  // (-3q + 2.25q^2)/h / r
         const real t = 2 - q;
-        return norm * real(-0.75) * t * t * inv_h / (r > 0 ? r : real(1));
+        const real outer = fast_divide(norm * real(-0.75) * t * t * inv_h, r > 0 ? r : real(1));
+        return q < 1 ? inner : outer;
     }
 };
 

@@ -43,53 +43,60 @@ struct CellSearch {
         }
     }
 
-    // cell_start has cell_count() + 1 entries: cell c holds sorted particles
-    // [cell_start[c], cell_start[c + 1]).
-    template <class Visit>
-    SPH_HD static void visit(const GridView& g, const std::uint32_t* cell_start, const std::uint32_t* cell,
-                             int3v c, Visit&& visit) {
+    // The z offset (cell_j.z - cell_i.z, unwrapped) of the candidates of one particle range:
+    // a cell's range has one offset; a merged z-run spans several cells, whose offsets come
+    // from each candidate's cell index (one more load per candidate, the price of merging).
+    struct RangeZ {
+        int dz;   // unmerged: the range's offset
+        int ref;  // merged: the offset of candidate j is cell[j] - ref
+        SPH_HD int of(const std::uint32_t* cell, std::uint32_t j) const {
+            if constexpr (Merge) return int(cell[j]) - ref;
+            else return dz;
+        }
+    };
+
+    // f(begin, end, dx, dy, z) for each particle range of the stencil around cell c, in the
+    // order visit() reads them: cell_start has cell_count() + 1 entries, cell c holds sorted
+    // particles [cell_start[c], cell_start[c + 1]). Along a periodic z a merged run
+    // [cz - N, cz + N] is cut where it crosses the face: each piece lies in one image of the
+    // grid (shifted by image * nz cells) and is one contiguous range.
+    template <class F>
+    SPH_HD static void visit_ranges(const GridView& g, const std::uint32_t* cell_start, int3v c, F&& f) {
         const int z0 = c.z - N < 0 ? 0 : c.z - N;
         const int z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
         for_each_column(g, c, [&](int dx, int dy, std::uint32_t column) {
             if (g.periodic_z) {
-                visit_periodic_column(g, cell_start, cell, c.z, column, dx, dy, visit);
-            } else if constexpr (Merge) {
-                const std::uint32_t end = cell_start[column + z1 + 1];
-                const int ref = int(column) + c.z;
-                for (std::uint32_t j = cell_start[column + z0]; j < end; ++j) visit(j, dx, dy, int(cell[j]) - ref);
-            } else {
-                for (int z = z0; z <= z1; ++z) {
-                    const std::uint32_t end = cell_start[column + z + 1];
-                    for (std::uint32_t j = cell_start[column + z]; j < end; ++j) visit(j, dx, dy, z - c.z);
+                if constexpr (Merge) {
+                    for (int u = c.z - N; u <= c.z + N;) {
+                        const int w0 = wrap_index(u, g.nz);
+                        const int shift = u - w0;  // image * nz
+                        const int w1 = c.z + N - shift < g.nz - 1 ? c.z + N - shift : g.nz - 1;
+                        f(cell_start[column + w0], cell_start[column + w1 + 1], dx, dy,
+                          RangeZ{0, int(column) + c.z - shift});
+                        u += w1 - w0 + 1;
+                    }
+                } else {
+                    for (int dz = -N; dz <= N; ++dz) {
+                        const std::uint32_t z = column + wrap_index(c.z + dz, g.nz);
+                        f(cell_start[z], cell_start[z + 1], dx, dy, RangeZ{dz, 0});
+                    }
                 }
+            } else if constexpr (Merge) {
+                f(cell_start[column + z0], cell_start[column + z1 + 1], dx, dy, RangeZ{0, int(column) + c.z});
+            } else {
+                for (int z = z0; z <= z1; ++z)
+                    f(cell_start[column + z], cell_start[column + z + 1], dx, dy, RangeZ{z - c.z, 0});
             }
         });
     }
 
-    // One (x, y) column along a periodic z. Merged, the unwrapped run [cz - N, cz + N] is cut
-    // where it crosses a periodic face: each piece lies in one image of the grid (shifted by
-    // image * nz cells) and is one contiguous particle range. Unmerged, each cell on its own.
+    // visit(j, dx, dy, dz) for each candidate of the stencil around cell c, range by range.
     template <class Visit>
-    SPH_HD static void visit_periodic_column(const GridView& g, const std::uint32_t* cell_start,
-                                             const std::uint32_t* cell, int cz, std::uint32_t column, int dx, int dy,
-                                             Visit& visit) {
-        if constexpr (Merge) {
-            for (int u = cz - N; u <= cz + N;) {
-                const int w0 = wrap_index(u, g.nz);
-                const int shift = u - w0;  // image * nz
-                const int w1 = cz + N - shift < g.nz - 1 ? cz + N - shift : g.nz - 1;
-                const std::uint32_t end = cell_start[column + w1 + 1];
-                const int ref = int(column) + cz - shift;
-                for (std::uint32_t j = cell_start[column + w0]; j < end; ++j) visit(j, dx, dy, int(cell[j]) - ref);
-                u += w1 - w0 + 1;
-            }
-        } else {
-            for (int dz = -N; dz <= N; ++dz) {
-                const int z = wrap_index(cz + dz, g.nz);
-                const std::uint32_t end = cell_start[column + z + 1];
-                for (std::uint32_t j = cell_start[column + z]; j < end; ++j) visit(j, dx, dy, dz);
-            }
-        }
+    SPH_HD static void visit(const GridView& g, const std::uint32_t* cell_start, const std::uint32_t* cell,
+                             int3v c, Visit&& visit) {
+        visit_ranges(g, cell_start, c, [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, RangeZ z) {
+            for (std::uint32_t j = begin; j < end; ++j) visit(j, dx, dy, z.of(cell, j));
+        });
     }
 
     // The fluid part of each stencil cell around c, for a boundary particle (which interacts

@@ -72,19 +72,20 @@ struct PairSums {
         const real4 old_j = fluid_j ? in.velrho_prev[j] : vr_j;
         if (Diffusion && fluid_j) {
             const real old_rho_j = density(old_j);
-            drho += diffusion_coef * (density(old_i) - old_rho_j - dot(hydrostatic_drho, rij)) / old_rho_j * r2 * fac /
-                    (r2 + p.eta2);
+            drho += fast_divide(fast_divide(diffusion_coef * (density(old_i) - old_rho_j - dot(hydrostatic_drho, rij)),
+                                            old_rho_j) * r2 * fac,
+                                r2 + p.eta2);
         }
         const real3 old_vij = xyz(old_i) - xyz(old_j);
         const real old_vdotr = dot(old_vij, rij);
         real pi_ij = 0;
-        if (old_vdotr < 0) pi_ij = -visc_coef * old_vdotr / ((r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
+        if (old_vdotr < 0) pi_ij = fast_divide(-visc_coef * old_vdotr, (r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
         const real s = -p.mass * (pos_i.w + in.pos[j].w + pi_ij) * fac;
         acc += s * rij;
         // A uniform runtime branch rather than a template flag: compiling the laminar term
         // out would double the force kernels' instantiations (kernel x search x diffusion)
         // and the CUDA compile time, and every thread takes the same side.
-        if (p.nu > 0) acc += (laminar_coef * r2 * fac / ((rho_i + rho_j) * (r2 + p.eta2))) * old_vij;
+        if (p.nu > 0) acc += fast_divide(laminar_coef * r2 * fac, (rho_i + rho_j) * (r2 + p.eta2)) * old_vij;
     }
     SPH_HD real4 result() const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
 };
@@ -119,12 +120,47 @@ SPH_HD real3 listed_separation(const real4& pi, const real4& pj, int3v ci, int3v
     return r;
 }
 
+// One particle range of the stencil through the pair sums, in two passes per 32 candidates:
+// the lanes test every candidate and set a bit per neighbour, then each lane runs the pair
+// body over its own bits. Done candidate by candidate, a warp runs the body whenever any of
+// its lanes has a neighbour there, at the few lanes that do (13-15 of 32 on an H200); by bits,
+// the body runs as often as the lane with most neighbours in the chunk needs. The same
+// neighbours in the same order as visit(). The separation is the same as separation()'s up
+// to rounding: the cell offset is taken off x_i once per range, not per candidate.
+template <class Sums, class ZOffset>
+SPH_HD void add_range_by_hit_masks(Sums& sums, const ForceInputs& in, const PhysicsParams& p, std::uint32_t begin,
+                                   std::uint32_t end, int dx, int dy, const ZOffset& z_offset) {
+    const real3 cs = in.grid.cell_size;
+    const real bx = sums.pos_i.x - dx * cs.x, by = sums.pos_i.y - dy * cs.y;
+    const auto rij_of = [&](std::uint32_t j) {
+        const real4 pj = in.pos[j];
+        return make3(bx - pj.x, by - pj.y, sums.pos_i.z - z_offset(j) * cs.z - pj.z);
+    };
+    const real near2 = real(1e-18) * p.support2;
+    for (std::uint32_t j0 = begin; j0 < end; j0 += 32) {
+        const std::uint32_t n = end - j0 < 32 ? end - j0 : 32;
+        std::uint32_t hits = 0;
+        for (std::uint32_t k = 0; k < n; ++k) {
+            const real3 rij = rij_of(j0 + k);
+            const real r2 = dot(rij, rij);
+            if (r2 < p.support2 && r2 > near2) hits |= std::uint32_t(1) << k;
+        }
+        while (hits != 0) {
+            const std::uint32_t j = j0 + std::uint32_t(lowest_set_bit(hits));
+            hits &= hits - 1;
+            const real3 rij = rij_of(j);
+            sums.add(j, rij, dot(rij, rij));
+        }
+    }
+}
+
 // Returns (acceleration, d rho / dt) of particle i, visiting candidates cell by cell.
 // Where the inputs give each cell's first fluid particle (in.fluid_begin: the CUDA backend), a
 // boundary particle visits only the fluid of each stencil cell: the same neighbours that add()
 // keeps, in the same order, without loading the walls around it (half of some scenes'
-// particles are walls, most of them far from water).
-template <class Kernel, class Search, bool Diffusion>
+// particles are walls, most of them far from water). HitMasks (the CUDA backend) takes each
+// range through add_range_by_hit_masks; the host keeps the plain loop.
+template <class Kernel, class Search, bool Diffusion, bool HitMasks = false>
 SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p, const Kernel& kernel) {
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
     const real3 cs = in.grid.cell_size;
@@ -132,11 +168,22 @@ SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const Physic
     if (!sums.fluid_i && in.fluid_begin != nullptr) {
         Search::visit_fluid_cells(in.grid, in.cell_start, in.fluid_begin, c,
                                   [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, int dz) {
-                                      for (std::uint32_t j = begin; j < end; ++j) {
-                                          const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
-                                          sums.add(j, rij, dot(rij, rij));
+                                      if constexpr (HitMasks) {
+                                          add_range_by_hit_masks(sums, in, p, begin, end, dx, dy,
+                                                                 [dz](std::uint32_t) { return dz; });
+                                      } else {
+                                          for (std::uint32_t j = begin; j < end; ++j) {
+                                              const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
+                                              sums.add(j, rij, dot(rij, rij));
+                                          }
                                       }
                                   });
+    } else if constexpr (HitMasks) {
+        Search::visit_ranges(in.grid, in.cell_start, c,
+                             [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, typename Search::RangeZ z) {
+                                 add_range_by_hit_masks(sums, in, p, begin, end, dx, dy,
+                                                        [&](std::uint32_t j) { return z.of(in.cell, j); });
+                             });
     } else {
         Search::visit(in.grid, in.cell_start, in.cell, c, [&](std::uint32_t j, int dx, int dy, int dz) {
             const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
