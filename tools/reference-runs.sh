@@ -6,7 +6,7 @@
 #   forceloop: the force loop's before/after (issue 12): the CUDA force tests, the
 #           benchmark cases with sphbench and with $BASE (an older build, when on PATH),
 #           alternating (and the commands named in $EXTRA_BINS), Nsight Compute on the force kernels, and DualSPHysics beside them
-#           when DSPH (its anchor folder) is set
+#           when DSPH (its anchor folder) is set; CASE_COUNT=N runs the first N cases only
 #   accuracy: the CUDA tests, the accuracy sweep (needs sphbench-f64: F64=1 gpu-run.sh pack)
 #           and the stability studies (issue 6)
 set -uo pipefail
@@ -56,6 +56,7 @@ forceloop)
          "dsph-dambreak --merge" "dsph-dambreak --set kernel=wendland --cells-per-support 2 --merge"
          "dsph-dambreak --set dp=0.0028 --merge"
          "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2 --merge")
+  [ -n "${CASE_COUNT:-}" ] && cases=("${cases[@]:0:$CASE_COUNT}")  # the first N cases only (a short lease)
   bins=(sphbench)
   [ -n "${BASE:-}" ] && command -v "$BASE" >/dev/null && bins=("$BASE" sphbench)
   for extra in ${EXTRA_BINS:-}; do command -v "$extra" >/dev/null && bins+=("$extra"); done

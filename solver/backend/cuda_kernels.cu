@@ -77,7 +77,7 @@ __global__ void __launch_bounds__(Policy::block_size)
     const std::uint32_t i = *range.begin + blockIdx.x * Policy::block_size + threadIdx.x;
     if (i >= *range.end) return;
     const Kernel kernel(p.h);
-    force[i] = particle_force<Kernel, Search, Diffusion, true>(i, in, p, kernel);
+    force[i] = particle_force<Kernel, Search, Diffusion, Policy::template hit_masks<Search>>(i, in, p, kernel);
 }
 
 template <class Kernel, class Search>

@@ -10,9 +10,23 @@ struct ElementwisePolicy {
     static constexpr int block_size = 128;
 };
 
+// Whether the force loop takes stencil ranges through add_range_by_hit_masks (test 32
+// candidates, then each lane's pair bodies) or candidate by candidate. 2 (the default) is the
+// choice per search measured on an H200 (bench/FORCE_LOOP_NOTES.md, change 6); 0 and 1 force
+// one way for every search at compile time, to time both on one GPU.
+#ifndef SPH_FORCE_HIT_MASKS
+#define SPH_FORCE_HIT_MASKS 2
+#endif
+
 // The force loop (cuda_kernels.cu, forces_kernel): one thread per particle.
 struct ForceLoopPolicySm90 {
     static constexpr int block_size = 128;
+    // Measured: masks win on cells of the support (3-6%) and on merged runs of smaller cells
+    // (7-10%); they lose 6% on smaller cells without merging (ranges of ~5 candidates) and 1%
+    // on merged runs of cells of the support.
+    template <class Search>
+    static constexpr bool hit_masks = SPH_FORCE_HIT_MASKS == 2 ? (Search::n == 1) != Search::merge
+                                                               : SPH_FORCE_HIT_MASKS != 0;
 };
 
 // One architecture is tuned today (the build targets sm_90); a second one gets its own
