@@ -100,7 +100,7 @@ class Context:
 
     def sh(self, argv, log=None, cwd=REPO, check=True):
         """Runs argv, echoing its output (and appending it to `log`); returns the exit code."""
-        shown = " ".join(shlex.quote(str(a)) for a in argv)
+        shown = " ".join(shlex.quote(shown_arg(a, i)) for i, a in enumerate(argv))
         print(f"  $ {shown}", flush=True)
         self.log_lines.append(shown)
         out = open(log, "a", encoding="utf-8") if log else None
@@ -128,6 +128,17 @@ class Context:
 
 class ItemFailed(Exception):
     pass
+
+
+def shown_arg(a, i):
+    """A program by its name, a path inside the repository relative to it: the log reads the same
+    on every machine."""
+    a = str(a)
+    if i == 0 and "/" in a:
+        return Path(a).name
+    if a.startswith(str(REPO) + "/"):
+        return os.path.relpath(a, REPO)
+    return a
 
 
 def tool(ctx, name):
@@ -264,13 +275,16 @@ def draw_figures(ctx, d, scope):
     if missing:
         print(f"  figures not drawn here ({missing}): run `make reference-figures` where matplotlib is", flush=True)
         return "not drawn"
-    drawn = 0
+    drawn, failed = 0, []
     for script, results, needs in FIGURES_SINGLE if scope == "single" else FIGURES_MULTI:
         if not (d / needs).exists():
             continue
-        ctx.sh([sys.executable, REPO / "plots" / script, "--results", d / results, "--out", d / "figures"],
-               log=d / "figures.log")
-        drawn += 1
+        rc = ctx.sh([sys.executable, REPO / "plots" / script, "--results", d / results, "--out", d / "figures"],
+                    log=d / "figures.log", check=False)
+        drawn += rc == 0
+        failed += [script] if rc else []
+    if failed:
+        raise ItemFailed(f"{drawn} figures drawn; {', '.join(failed)} failed (figures.log)")
     return f"{drawn} figures"
 
 
