@@ -628,6 +628,11 @@ def main(argv=None):
                   flush=True)
             continue
         d = dirs[it.scope]
+        if it.name.startswith("figures") and not args.force:  # drawn already from these very results?
+            prev = load_state(d)["items"].get(it.name, {})
+            if prev.get("stamp") == stamp(it, tools, n_gpus) + results_digest(d) and prev.get("result", "").endswith("figures"):
+                print(f"[{it.name}] up to date: the results did not change", flush=True)
+                continue
         print(f"[{it.name}] {it.what} (about {est:.0f} s) -> {d.relative_to(REPO) if d.is_relative_to(REPO) else d}",
               flush=True)
         ctx.log_lines, ctx.harness_skipped = [], False
