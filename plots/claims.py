@@ -219,11 +219,29 @@ def dualsphysics(folder):
         raise Missing("no case measured by both")
     lo, hi = _span(r for _, r in ratios)
     cases = ", ".join(f"{c} {r:.2f}x" for c, r in ratios)
-    return dict(lo=lo, hi=hi, cases=cases, faster=sum(r > 1.0 for _, r in ratios), n=len(ratios), _meta=None)
+    return dict(lo=lo, hi=hi, cases=cases, faster=sum(r > 1.0 for _, r in ratios), n=len(ratios), _meta=None,
+                _item="benchmarks")
+
+
+def skip_bench(folder, does, skips):
+    """How much of `does` (a Google Benchmark name under skip/) skipping the work saves: medians."""
+    import json
+    path = _first_file(folder, ["skip_bench.json"])
+    medians, gpu = {}, None
+    for b in json.loads(path.read_text()).get("benchmarks", []):
+        if b.get("aggregate_name") == "median":
+            name = b["name"].removesuffix("/manual_time_median").removeprefix("skip/")
+            medians[name], gpu = float(b["real_time"]), b.get("label", gpu)
+    if does not in medians or skips not in medians:
+        raise Missing(f"{path} lacks {does} or {skips}")
+    t_does, t_skips = medians[does], medians[skips]
+    gpu = re.sub(r" \(GPU \d+\)$", "", gpu or "")
+    return dict(does=t_does, skips=t_skips, saved=100.0 * (1.0 - t_skips / t_does), _meta=None, _gpu=gpu or None,
+                _item="skip-bench")
 
 
 METRICS = {f.__name__: f for f in (cll_vs_vl, fig3_speedup, fig3_best, fig4_change, balance, speedup, speedup_by_size,
-                                   threshold_gain, transports, dualsphysics)}
+                                   threshold_gain, transports, dualsphysics, skip_bench)}
 
 
 # --------------------------------------------------------------------------------------------
@@ -260,6 +278,19 @@ def freshness(commit, hist, repo=REPO):
     if git("merge-base", "--is-ancestor", last, full, repo=repo) is not None:
         return "yes"
     return f"**STALE**: solver/ changed at {last[:7]}"
+
+
+def recorded(folder, item):
+    """For results without CSV provenance: the commit that `make reference` recorded for the item
+    (reference-state.json of the machine's folder)."""
+    import json
+    if not item:
+        return None
+    try:
+        s = json.loads((folder / "reference-state.json").read_text())["items"][item]
+    except (OSError, ValueError, KeyError):
+        return None
+    return {"git_commit": s.get("commit", "unknown"), "git_dirty": s.get("dirty", "unknown")}
 
 
 def gpu_of(folder, meta):
@@ -317,10 +348,10 @@ def rows_of(claim, reference, hist):
             values = METRICS[claim["metric"]](folder, **claim.get("args", {}))
         except (Missing, sphplot.ResultsError):
             continue
-        meta = values.get("_meta") or {}
+        meta = values.get("_meta") or recorded(folder, values.get("_item")) or {}
         commit = src.get("commit") or meta.get("git_commit", "unknown")
         dirty = " (dirty)" if meta.get("git_dirty") == "dirty" else ""
-        gpu = src.get("gpu") or gpu_of(folder, values.get("_meta"))
+        gpu = src.get("gpu") or values.get("_gpu") or gpu_of(folder, values.get("_meta"))
         verdict, why = judge(claim, values)
         shown = claim["shown"].format(**{k: v for k, v in values.items() if not k.startswith("_")})
         rows.append([claim["where"], claim["paper"], shown, f"{gpu}, `results/reference/{src['path']}`",

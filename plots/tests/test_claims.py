@@ -49,6 +49,24 @@ class ReadmeTable(unittest.TestCase):
                 self.assertIn(r["verdict"], claims.VERDICTS, c["id"])
 
 
+class BenchmarkLogs(unittest.TestCase):
+    def test_both_layouts_of_benchmarks_txt(self):
+        old = ("== sphbench-base simulate dsph-dambreak (repetition 1)\ntime per step: median 4.355 ms (quartiles)\n"
+               "== sphbench simulate dsph-dambreak (repetition 1)\ntime per step: median 3.536 ms (quartiles)\n")
+        new = ("== sphbench simulate dsph-dambreak --set dp=0.0028 --steps 300 --warmup 20 --backend cuda --quiet --out x\n"
+               "scene dsph-dambreak\ntime per step: median 13.488 ms (quartiles 1 to 2)\n")
+        self.assertEqual(claims.ours_per_step(old), {"dsph-dambreak": 3.536})
+        self.assertEqual(claims.ours_per_step(new), {"dsph-dambreak --set dp=0.0028": 13.488})
+
+    def test_a_folder_of_make_reference_names_its_commit(self):
+        with tempfile.TemporaryDirectory() as t:
+            folder = Path(t)
+            (folder / "reference-state.json").write_text(
+                '{"items": {"benchmarks": {"commit": "0123456789", "dirty": "clean"}}}')
+            self.assertEqual(claims.recorded(folder, "benchmarks")["git_commit"], "0123456789")
+            self.assertIsNone(claims.recorded(folder, "fig3"))
+
+
 class Staleness(unittest.TestCase):
     def setUp(self):
         self.tmp = tempfile.TemporaryDirectory()
