@@ -1,6 +1,7 @@
 # The front door. `make test` sets up, builds and runs the tests; `make fig4` (fig3 ... fig9,
 # table-vl) runs an experiment spec and draws its figure. Without a GPU the figure targets run on the
-# host backend at a reduced scale, and say so.
+# host backend at a reduced scale, and say so. `make reference` (on a GPU machine) regenerates every
+# committed GPU result, resumably; `make claims` writes the README's claims table from them.
 BUILD ?= build
 JOBS ?= 2
 CMAKE_ARGS ?=
