@@ -299,10 +299,8 @@ def gpu_of(folder, meta):
         names = [n.strip() for n in text.split(";") if n.strip()]
         if names and names[0] not in ("host", "none"):
             return names[0] if len(names) == 1 else f"{len(names)} x {names[0]}"
-    gpu = folder / "gpu.txt"
-    while gpu.parent != REFERENCE.parent and not gpu.is_file():
-        gpu = gpu.parent.parent / "gpu.txt"
-    if gpu.is_file():
+    gpu = next((d / "gpu.txt" for d in [folder, *folder.parents] if (d / "gpu.txt").is_file()), None)
+    if gpu is not None:
         rows = [ln.split(",")[0].strip() for ln in gpu.read_text().splitlines()[1:] if ln.strip()]
         if rows:
             return rows[0] if len(rows) == 1 else f"{len(rows)} x {rows[0]}"
