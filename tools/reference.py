@@ -253,7 +253,7 @@ FIGURES_SINGLE = [  # (script, results folder under the machine's, what it needs
     ("fig4.py", "fig4", "fig4/runs.csv"),
     ("table_vl.py", "cll-vs-vl", "cll-vs-vl/runs.csv"),
     ("accuracy.py", "accuracy", "accuracy/runs.csv"),
-    ("stability.py", "stability", "stability"),
+    ("stability.py", "stability", [f"stability/{s}/summary.csv" for s in STABILITY_STUDIES]),  # all four
 ]
 FIGURES_MULTI = [("fig5.py", "multi-gpu", "multi-gpu/runs.csv"), ("fig6.py", "multi-gpu", "multi-gpu/runs.csv"),
                  ("fig7.py", "multi-gpu", "multi-gpu/runs.csv"), ("fig8.py", "multi-gpu", "multi-gpu/runs.csv"),
@@ -277,7 +277,7 @@ def draw_figures(ctx, d, scope):
         return "not drawn"
     drawn, failed = 0, []
     for script, results, needs in FIGURES_SINGLE if scope == "single" else FIGURES_MULTI:
-        if not (d / needs).exists():
+        if not all((d / n).exists() for n in ([needs] if isinstance(needs, str) else needs)):
             continue
         rc = ctx.sh([sys.executable, REPO / "plots" / script, "--results", d / results, "--out", d / "figures"],
                     log=d / "figures.log", check=False)
@@ -508,10 +508,12 @@ def figures_only(args):
         print(f"reference: cannot draw figures here ({plotting_available()}).", file=sys.stderr)
         return 2
     ctx = Context(args, {}, 1)
-    dirs = [args.root / m for m in args.machine] if args.machine else sorted(p for p in args.root.iterdir() if p.is_dir())
+    # By default the folders that `make reference` wrote; --machine names others (h100, say).
+    dirs = [args.root / m for m in args.machine] if args.machine else sorted(
+        p for p in args.root.iterdir() if (p / STATE_NAME).is_file())
+    if not dirs:
+        print(f"reference: no folder under {args.root} was written by `make reference`; name some with --machine.")
     for d in dirs:
-        if d.name == "host":
-            continue
         scope = "multi" if re.search(r"-x\d+$", d.name) else "single"
         print(f"{d}: {draw_figures(ctx, d, scope)}")
     return 0
