@@ -33,6 +33,11 @@ HEADER = ["where", "the paper says", "ours", "measured on", "commit", "current?"
 FRESH_COLUMN = HEADER.index("current?")
 
 
+# No commit in the mark: the commit that changes solver/ cannot name itself in the README it carries.
+STALE = "**STALE**: solver/ changed after it"
+UNCOMMITTED = "uncommitted changes under solver/"
+
+
 class Missing(Exception):
     """The folder lacks what a metric reads: try the next one."""
 
@@ -263,6 +268,8 @@ def history(repo=REPO):
         return None, "no git history"
     if shallow == "true":
         return None, "shallow clone"
+    if git("status", "--porcelain", "--", "solver/", repo=repo):
+        return UNCOMMITTED, None  # a change being made: every result is older than it
     last = git("log", "-1", "--format=%H", "--", "solver/", repo=repo)
     return (last, None) if last else (None, "no commit touches solver/")
 
@@ -272,12 +279,14 @@ def freshness(commit, hist, repo=REPO):
     last, why = hist
     if last is None:
         return f"unknown ({why})"
+    if last == UNCOMMITTED:
+        return STALE
     full = git("rev-parse", "--verify", "--quiet", f"{commit}^{{commit}}", repo=repo) if commit else None
     if not full:
         return "unknown (commit not in history)"
     if git("merge-base", "--is-ancestor", last, full, repo=repo) is not None:
         return "yes"
-    return f"**STALE**: solver/ changed at {last[:7]}"
+    return STALE
 
 
 def recorded(folder, item):
