@@ -31,6 +31,7 @@ build-f64/.
 
   tools/reference.py [--dry-run] [--budget S] [--only ITEM ...] [--skip ITEM ...] [--list]
   tools/reference.py --figures-only [--machine DIR ...]     draw the figures of committed results
+  tools/reference.py --pack-dsph [SRC [DEST]]              DualSPHysics' anchor, recompressed, into .dsph/
 Environment: PLAN=1 (= --dry-run), REFERENCE_BUDGET_S, REFERENCE_ONLY, REFERENCE_SKIP (items,
 space or comma separated), REFERENCE_ARCHIVE, DSPH (DualSPHysics' anchor folder), REFERENCE_GPUS
 and REFERENCE_GPU_NAME (what a dry run without a GPU plans for; default 1 x h200).
@@ -170,8 +171,45 @@ def run_benchmarks(ctx, d):
     shutil.rmtree(scratch)
 
 
+def pack_dualsphysics(src, dest):
+    """A copy of DualSPHysics' anchor folder with its .gz files recompressed as .xz (37 MB -> about
+    16 MB), so that it travels with the working tree within the run tool's 64 MiB."""
+    import gzip
+    import lzma
+    src, dest = Path(src), Path(dest)
+    if not (src / "run.sh").is_file():
+        print(f"reference: {src} holds no run.sh, so it is not DualSPHysics' anchor folder.", file=sys.stderr)
+        return 2
+    shutil.rmtree(dest, ignore_errors=True)
+    shutil.copytree(src, dest)
+    for f in [dest, *dest.rglob("*")]:
+        f.chmod(f.stat().st_mode | 0o200)  # the shared copy is read-only
+    for gz in sorted(dest.rglob("*.gz")):
+        with gzip.open(gz, "rb") as i, lzma.open(gz.with_suffix(".xz"), "wb", preset=6) as o:
+            shutil.copyfileobj(i, o, 1 << 20)
+        gz.unlink()
+        print(f"  {gz.relative_to(dest)} -> {gz.with_suffix('.xz').name}", flush=True)
+    print(f"reference: {dest} ready; carry it and set DSPH=$PWD/{os.path.relpath(dest, REPO)} on the GPU machine")
+    return 0
+
+
+def unpack_xz(anchor):
+    """What pack_dualsphysics packed, unpacked where DualSPHysics' run.sh looks (an executable
+    beside it, CaseDambreak.bi4 in a case folder)."""
+    import lzma
+    for xz in sorted(anchor.rglob("*.xz")):
+        target = xz.with_suffix("")
+        if target.exists() or (target.with_suffix(target.suffix + ".gz")).exists():
+            continue
+        with lzma.open(xz, "rb") as i, open(target, "wb") as o:
+            shutil.copyfileobj(i, o, 1 << 20)
+        if target.name.startswith("DualSPHysics"):
+            target.chmod(0o755)
+
+
 def run_dualsphysics(ctx, d):
     anchor = Path(os.environ["DSPH"])
+    unpack_xz(anchor)
     work = Path(tempfile.mkdtemp(prefix="dsph-logs-"))
     try:
         ctx.sh(["bash", anchor / "run.sh", work], log=None)
@@ -500,6 +538,9 @@ def parse_args(argv):
     p.add_argument("--figures-only", action="store_true",
                    help="draw the figures of the machine folders under --root (or --machine) and exit")
     p.add_argument("--machine", nargs="+", default=[], help="with --figures-only: folders such as h200 h200-x2")
+    p.add_argument("--pack-dsph", nargs="*", metavar=("SRC", "DEST"),
+                   help="copy DualSPHysics' anchor (default ../shared/anchors/dualsphysics) to DEST (default .dsph), "
+                        "recompressed to travel within the run tool's 64 MiB, and exit")
     return p.parse_args(argv)
 
 
@@ -528,6 +569,9 @@ def main(argv=None):
         return 0
     if args.figures_only:
         return figures_only(args)
+    if args.pack_dsph is not None:
+        src = args.pack_dsph[0] if args.pack_dsph else REPO.parent / "shared" / "anchors" / "dualsphysics"
+        return pack_dualsphysics(src, args.pack_dsph[1] if len(args.pack_dsph) > 1 else REPO / ".dsph")
     names = {it.name for it in all_items}
     for n in args.only + args.skip:
         if n not in names:

@@ -130,6 +130,25 @@ class ReferenceRuns(unittest.TestCase):
         self.assertIn("devices-2", " ".join(self.state("h200-x2")["multi-gpu"]["commands"]))
         self.assertNotIn("devices-4", " ".join(self.state("h200-x2")["multi-gpu"]["commands"]))
 
+    def test_dualsphysics_travels_recompressed_and_runs_from_there(self):
+        import gzip
+        src = Path(self.tmp.name) / "anchor"
+        (src / "cases" / "dp0045_cubic").mkdir(parents=True)
+        (src / "run.sh").write_text('#!/bin/bash\nH=$(dirname "$0"); mkdir -p "$1"\n'
+                                    '[ -x "$H/DualSPHysics5.4_linux64" ] || exit 3\n'
+                                    'cmp -s "$H/cases/dp0045_cubic/CaseDambreak.bi4" <(echo particles) || exit 4\n'
+                                    'echo "case ms_per_step rc" > "$1/summary.txt"; echo "dp0045_cubic 3.9 0" >> "$1/summary.txt"\n')
+        (src / "DualSPHysics5.4_linux64.gz").write_bytes(gzip.compress(b"#!/bin/sh\n"))
+        (src / "cases" / "dp0045_cubic" / "CaseDambreak.bi4.gz").write_bytes(gzip.compress(b"particles\n"))
+        dest = Path(self.tmp.name) / "dsph"
+        p = subprocess.run([sys.executable, str(SCRIPT), "--pack-dsph", str(src), str(dest)], capture_output=True, text=True)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertEqual(sorted(f.name for f in dest.rglob("*.gz")), [])
+        self.assertTrue((dest / "DualSPHysics5.4_linux64.xz").is_file())
+        rc, out, err = self.reference("--only", "dualsphysics", DSPH=str(dest))
+        self.assertEqual(rc, 0, out + err)
+        self.assertIn("dp0045_cubic 3.9", (self.root / "h200" / "dualsphysics" / "summary.txt").read_text())
+
     def test_gpu_names(self):
         sys.path.insert(0, str(SCRIPT.parent))
         import reference
