@@ -1,6 +1,7 @@
 # The front door. `make test` sets up, builds and runs the tests; `make fig4` (fig3 ... fig9,
 # table-vl) runs an experiment spec and draws its figure. Without a GPU the figure targets run on the
-# host backend at a reduced scale, and say so.
+# host backend at a reduced scale, and say so. `make reference` (on a GPU machine) regenerates every
+# committed GPU result, resumably; `make claims` writes the README's claims table from them.
 BUILD ?= build
 JOBS ?= 2
 CMAKE_ARGS ?=
@@ -10,7 +11,7 @@ BUILD_F64 ?= build-f64
 PYTHON ?= python3
 
 .PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl \
-        table-vl perf-check perf-accept stability skip-bench accuracy clean
+        table-vl perf-check perf-accept stability skip-bench accuracy reference reference-figures claims clean
 
 all: build
 
@@ -86,6 +87,26 @@ stability: build
 # the particles' bounding box (bench/skip_bench.cpp; CUDA when a GPU is present).
 skip-bench: build
 	$(BUILD)/bench/sph_skip_bench --benchmark_out=results/skip_bench.json --benchmark_out_format=json
+
+# Every GPU reference result the GPUs present allow, into results/reference/<gpu>[-xN]/ (README,
+# "Regenerating the reference results"): prints its plan and estimate, skips what is up to date,
+# resumes where the last call stopped. REFERENCE_BUDGET_S=500 starts nothing that would not fit;
+# PLAN=1 prints the plan only (also without a GPU); REFERENCE_ONLY="fig3 fig4" picks items.
+# With a packed build (.carry/, tools/gpu-run.sh pack) it runs those binaries and builds nothing.
+# (Nothing is built where there is no GPU: the script then says so in one sentence and fails.)
+REFERENCE_PREREQS := $(if $(or $(filter-out 0,$(PLAN)),$(wildcard .carry/bin/sphbench),$(if $(shell nvidia-smi -L 2>/dev/null),,no-gpu)),,build build-float64)
+REFERENCE_EXEC := $(if $(wildcard .carry/bin/sphbench),tools/gpu-run.sh exec)
+reference: $(REFERENCE_PREREQS)
+	@$(REFERENCE_EXEC) $(PYTHON) tools/reference.py $(if $(filter-out 0,$(PLAN)),--dry-run)
+
+# The figures of the committed reference results (after they come back from a GPU machine).
+reference-figures:
+	$(PYTHON) tools/reference.py --figures-only
+
+# The README's claims table, from the committed results (experiments/claims.toml); `make test`
+# fails when the README's table differs from what this writes.
+claims:
+	$(PYTHON) plots/claims.py --write-readme
 
 clean:
 	rm -rf $(BUILD) $(BUILD_F64)

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The GPU runs behind results/reference/<gpu>/ and the README's figures, in one command for a
 # GPU machine (through tools/gpu-run.sh exec). Writes everything under $1 (default results/gpu).
+# `make reference` (tools/reference.py) now runs single, accuracy and multi, resumably, into
+# results/reference/<gpu>[-xN]/; this script keeps the force loop's before/after (forceloop).
 #   single: benchmarks against DualSPHysics, the CUDA-vs-host test, fig4, fig3, cll-vs-vl
 #   multi:  the multi-gpu experiment (figures 5 to 9) and fig10 (transports); needs 2 GPUs
 #   forceloop: the force loop's before/after (issue 12): the CUDA force tests, the
