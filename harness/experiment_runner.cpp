@@ -24,28 +24,16 @@ std::string per_step(unsigned long long total, long samples) {
     return format_number(double(total) / double(samples));
 }
 
-// The paper's real update time is the slowest subdomain's forces plus integration; the
-// ideal one is their mean (with one subdomain both are that subdomain's).
-double update_of(const StepRecord& s, bool ideal) {
-    if (s.subdomain_ms.empty()) return update_time(s.phase_ms);
-    double worst = 0, sum = 0;
-    for (const PhaseTimes& t : s.subdomain_ms) {
-        worst = std::max(worst, update_time(t));
-        sum += update_time(t);
-    }
-    return ideal ? sum / double(s.subdomain_ms.size()) : worst;
-}
-
 std::vector<double> metric_series(const SceneRunResult& r, const std::string& metric) {
     std::vector<double> out;
     out.reserve(r.steps.size());
     for (const auto& s : r.steps) {
-        if (metric == "update_ms" || metric == "update_ideal_ms") {
-            out.push_back(update_of(s, metric == "update_ideal_ms"));
+        if (metric == "update_ms") {
+            out.push_back(s.update_ms());
+        } else if (metric == "update_ideal_ms") {
+            out.push_back(s.update_ideal_ms());
         } else if (metric == "step_ms") {
-            double total = 0;
-            for (double t : s.phase_ms) total += t;
-            out.push_back(total);
+            out.push_back(s.step_ms());
         } else if (metric == "wall_ms") {
             out.push_back(s.wall_ms);
         } else {
