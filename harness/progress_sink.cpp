@@ -8,7 +8,7 @@ void ProgressSink::after_step(Simulation&, const StepRecord& r, const StepPoint&
     if (at.step % every_ != 0) return;
     if (!with_update_time_) return progress_.update(at.step);
     char detail[96];
-    std::snprintf(detail, sizeof detail, "t = %.4f s, %.2f ms/step", r.time, update_time(r.phase_ms));
+    std::snprintf(detail, sizeof detail, "t = %.4f s, %.2f ms/step", r.time, r.update_ms());
     progress_.update(at.step, detail);
 }
 

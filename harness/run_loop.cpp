@@ -1,5 +1,7 @@
 #include "run_loop.hpp"
 
+#include <chrono>
+
 namespace sph {
 
 bool RunLoop::reached() const {

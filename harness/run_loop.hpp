@@ -3,7 +3,6 @@
 // rule (stop_rule.hpp) is reached, feeding every step to the sinks (step_sink.hpp). What
 // ends a run and what is made of its steps are the rules and sinks given; the loop itself
 // only orders them.
-#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
