@@ -21,7 +21,7 @@ struct SceneRunRequest {
     long steps = 100;
     long warmup = 0;              // steps run first and not recorded
     long snapshot_every = 0;      // 0: no snapshots
-    long count_work_every = 0;    // 0: work counters once, on the last step
+    long count_work_every = 0;    // 0: work counters once, on the budget's last step (none when an end time stops first)
     std::string out_dir;          // "" writes nothing
     std::string basename;         // file stem of this run's outputs
     bool write_step_csv = true;

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-
 #include <optional>
 
 #include "end_time_stop.hpp"
