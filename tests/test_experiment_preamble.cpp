@@ -10,6 +10,8 @@
 
 #include "core/error.hpp"
 #include "experiment_preamble.hpp"
+#include "experiment_runner.hpp"
+#include "validation/validation_metric.hpp"
 #include "scratch_folder.hpp"
 
 namespace sph {
@@ -88,6 +90,52 @@ TEST_F(PreambleTest, RunAndStabilityWriteTheSameProvenanceKeys) {
     const std::vector<std::string> k = keys(from_run);
     for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend", "experiment", "scale", "reduced_scale"})
         EXPECT_NE(std::find(k.begin(), k.end(), key), k.end()) << key;
+}
+
+// runs.csv from its one declaration: every row as wide as the header, and the cells that the
+// old name-keyed layout filled (settings, sizes, summaries, validation only where asked).
+TEST_F(PreambleTest, RunsTableCellsComeFromTheirColumns) {
+    const std::string path = write("table.toml", "");
+    std::ofstream(path, std::ios::app) << "[[runs]]\nscene = \"tank\"\nlabel = \"v\"\nset = { dp = 0.05 }\n"
+                                       << "validation = { every = 0.01, end_time = 0.02 }\n";
+    const std::vector<PlannedRun> runs = load_experiment(args(path), ExperimentKind::runs).runs;
+    ASSERT_EQ(runs.size(), 3u);
+    const ColumnTable<RunsRow> table = runs_table(runs);
+    const std::vector<std::string> names = table.names();
+    EXPECT_EQ(names, runs_csv_columns(runs));
+    const ValidationMetricInfo* tank = find_validation_metric("tank");
+    ASSERT_NE(tank, nullptr);
+    SceneRunResult r;
+    r.device = "host";
+    r.particles = 100;
+    for (int k = 0; k < 3; ++k) {
+        StepRecord s;
+        s.step = k + 1;
+        s.time = 0.01 * (k + 1);
+        s.phase_ms[std::size_t(Phase::forces)] = 1.0 + k;
+        s.subdomain_ms = {s.phase_ms};
+        r.steps.push_back(s);
+    }
+    for (const auto& c : tank->summary_columns) r.validation_summary.emplace_back(c, 0.5);
+    auto cell = [&](const PlannedRun& run, const std::string& column) {
+        const std::vector<std::string> cells = table.cells(RunsRow(run, r, "x_steps.csv"));
+        EXPECT_EQ(cells.size(), names.size());
+        const auto at = std::find(names.begin(), names.end(), column);
+        return at == names.end() ? std::string("<no column>") : cells[std::size_t(at - names.begin())];
+    };
+    EXPECT_EQ(cell(runs[0], "run_id"), "a");
+    EXPECT_EQ(cell(runs[0], "backend"), "host");
+    EXPECT_EQ(cell(runs[0], "forces_ms_median"), "2");
+    EXPECT_EQ(cell(runs[0], "step_ms_min"), "1");
+    EXPECT_EQ(cell(runs[0], "sim_time"), "0.03");
+    EXPECT_EQ(cell(runs[0], "set.dp"), "");  // another run's option
+    EXPECT_EQ(cell(runs[2], "set.dp"), "0.05");
+    EXPECT_EQ(cell(runs[0], "steps_file"), "x_steps.csv");
+    EXPECT_EQ(cell(runs[0], "blow_up"), "<no column>");  // no run records blow-ups
+    EXPECT_EQ(cell(runs[0], tank->summary_columns.front()), "");  // no validation asked
+    EXPECT_EQ(cell(runs[2], tank->summary_columns.front()), "0.5");
+    EXPECT_EQ(cell(runs[2], "steps_run"), "3");
+    EXPECT_EQ(cell(runs[2], "validation_every"), "0.01");
 }
 
 }  // namespace
