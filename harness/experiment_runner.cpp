@@ -15,8 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> summary_stats = {"median", "q1", "q3", "min"};
-
 // A per-step mean of a counter: an integer where the division is exact.
 std::string per_step(unsigned long long total, long samples) {
     if (samples <= 0) return "";
