@@ -11,9 +11,7 @@
 namespace sph {
 namespace {
 
-long parse_count(const std::string& key, const std::string& text, long lo) {
-    return std::stol(whole_from(double(lo)).check("--set " + key, text));
-}
+long parse_count(const std::string& key, const std::string& text) { return check_run_value(key, text, "--set " + key); }
 
 // Particle counts scale with `scale`; a lattice spacing with its inverse cube root.
 void apply_scale(SettingMap& options, double scale) {
@@ -68,9 +66,9 @@ std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& 
     for (const auto& [key, value] : options.overrides) {
         if (is_solver_setting(key)) solver_over[key] = check_solver_value(key, value, "--set " + key);
         else if (key.rfind("set.", 0) == 0 && key.size() > 4) scene_over[key.substr(4)] = value;
-        else if (key == "steps") steps = parse_count(key, value, 1), steps_overridden = true;
-        else if (key == "warmup") warmup = parse_count(key, value, 0);
-        else if (key == "repetitions") repetitions = parse_count(key, value, 1);
+        else if (key == "steps") steps = parse_count(key, value), steps_overridden = true;
+        else if (key == "warmup") warmup = parse_count(key, value);
+        else if (key == "repetitions") repetitions = parse_count(key, value);
         else {
             std::string known;
             for (const auto& k : solver_setting_keys()) known += k + ", ";

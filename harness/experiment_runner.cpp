@@ -15,8 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> summary_stats = {"median", "q1", "q3", "min"};
-
 // A per-step mean of a counter: an integer where the division is exact.
 std::string per_step(unsigned long long total, long samples) {
     if (samples <= 0) return "";
@@ -24,28 +22,16 @@ std::string per_step(unsigned long long total, long samples) {
     return format_number(double(total) / double(samples));
 }
 
-// The paper's real update time is the slowest subdomain's forces plus integration; the
-// ideal one is their mean (with one subdomain both are that subdomain's).
-double update_of(const StepRecord& s, bool ideal) {
-    if (s.subdomain_ms.empty()) return update_time(s.phase_ms);
-    double worst = 0, sum = 0;
-    for (const PhaseTimes& t : s.subdomain_ms) {
-        worst = std::max(worst, update_time(t));
-        sum += update_time(t);
-    }
-    return ideal ? sum / double(s.subdomain_ms.size()) : worst;
-}
-
 std::vector<double> metric_series(const SceneRunResult& r, const std::string& metric) {
     std::vector<double> out;
     out.reserve(r.steps.size());
     for (const auto& s : r.steps) {
-        if (metric == "update_ms" || metric == "update_ideal_ms") {
-            out.push_back(update_of(s, metric == "update_ideal_ms"));
+        if (metric == "update_ms") {
+            out.push_back(s.update_ms());
+        } else if (metric == "update_ideal_ms") {
+            out.push_back(s.update_ideal_ms());
         } else if (metric == "step_ms") {
-            double total = 0;
-            for (double t : s.phase_ms) total += t;
-            out.push_back(total);
+            out.push_back(s.step_ms());
         } else if (metric == "wall_ms") {
             out.push_back(s.wall_ms);
         } else {
@@ -74,85 +60,97 @@ std::string experiment_dir(const std::string& out_dir, const ExperimentSpec& spe
     return (fs::path(out_dir) / spec.name).string();
 }
 
-std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs) {
-    std::vector<std::string> c = {"run_id", "config", "scene",     "repetition", "backend", "device",
-                                  "particles", "fluid", "boundary", "dp",        "steps",   "warmup"};
+RunsRow::RunsRow(const PlannedRun& p, const SceneRunResult& r, std::string steps)
+    : run(p), result(r), steps_file(std::move(steps)) {
+    for (const auto& m : time_metrics()) times.push_back(summarize(metric_series(r, m)));
+}
+
+ColumnTable<RunsRow> runs_table(const std::vector<PlannedRun>& runs) {
+    using R = const RunsRow&;
+    auto whole = [](auto v) { return std::to_string(v); };
+    ColumnTable<RunsRow> t;
+    t.add("run_id", [](R r) { return r.run.run_id; })
+        .add("config", [](R r) { return r.run.config; })
+        .add("scene", [](R r) { return r.run.scene; })
+        .add("repetition", [whole](R r) { return whole(r.run.repetition); })
+        // The setting as the spec gave it ("auto" too), as this table always had it.
+        .add("backend", [](R r) { return r.run.solver_settings.at("backend"); })
+        .add("device", [](R r) { return r.result.device; })
+        .add("particles", [whole](R r) { return whole(r.result.particles); })
+        .add("fluid", [whole](R r) { return whole(r.result.fluid); })
+        .add("boundary", [whole](R r) { return whole(r.result.boundary); })
+        .add("dp", [](R r) { return format_number(r.result.dp); })
+        .add("steps", [whole](R r) { return whole(r.run.steps); })
+        .add("warmup", [whole](R r) { return whole(r.run.warmup); });
+    auto text_of = [](const std::map<std::string, std::string>& m, const std::string& key) {
+        const auto it = m.find(key);
+        return it == m.end() ? std::string() : it->second;
+    };
     for (const auto& key : solver_setting_keys())
-        if (key != "backend") c.push_back(key);
+        if (key != "backend") t.add(key, [key, text_of](R r) { return text_of(r.run.solver_settings, key); });
     std::set<std::string> options;  // the union over runs, sorted
     for (const auto& r : runs)
         for (const auto& [k, v] : r.scene_options) options.insert(k);
-    for (const auto& k : options) c.push_back("set." + k);
-    for (const auto& m : time_metrics())
-        for (const auto& s : summary_stats) c.push_back(m + "_" + s);
-    for (const char* k : {"mparticle_steps_per_s", "bytes_per_particle", "candidates_per_step", "neighbours_per_step",
-                          "ranges_per_step", "sim_time", "wall_s", "steps_file"})
-        c.emplace_back(k);
+    for (const auto& k : options) t.add("set." + k, [k, text_of](R r) { return text_of(r.run.scene_options, k); });
+    const std::vector<std::string> metrics = time_metrics();
+    std::size_t step_ms = 0;
+    for (std::size_t m = 0; m < metrics.size(); ++m) {
+        if (metrics[m] == "step_ms") step_ms = m;
+        t.add(metrics[m] + "_median", [m](R r) { return format_number(r.times[m].median); })
+            .add(metrics[m] + "_q1", [m](R r) { return format_number(r.times[m].q1); })
+            .add(metrics[m] + "_q3", [m](R r) { return format_number(r.times[m].q3); })
+            .add(metrics[m] + "_min", [m](R r) { return format_number(r.times[m].min); });
+    }
+    t.add("mparticle_steps_per_s",
+          [step_ms](R r) {
+              const double median = r.times[step_ms].median;
+              return median > 0 ? format_number(double(r.result.particles) / (median * 1e3)) : "";
+          })
+        .add("bytes_per_particle",
+             [](R r) {
+                 return r.result.particles ? format_number(double(r.result.bytes_allocated) / double(r.result.particles))
+                                           : "";
+             })
+        .add("candidates_per_step", [](R r) { return per_step(r.result.work.candidates, r.result.work.samples); })
+        .add("neighbours_per_step", [](R r) { return per_step(r.result.work.neighbours, r.result.work.samples); })
+        .add("ranges_per_step", [](R r) { return per_step(r.result.work.ranges, r.result.work.samples); })
+        .add("sim_time", [](R r) { return r.result.steps.empty() ? "0" : format_number(r.result.steps.back().time); })
+        .add("wall_s", [](R r) { return format_number(r.result.wall_seconds); })
+        .add("steps_file", [](R r) { return r.steps_file; });
+    if (std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.record_blow_up; }))
+        t.add("blow_up", [](R r) { return r.result.blow_up; });
     // Validation columns only where a run asks for validation: each metric's summary once.
     std::set<std::string> metric_scenes;
     for (const auto& r : runs)
         if (r.validation.enabled()) metric_scenes.insert(r.scene);
-    if (std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.record_blow_up; }))
-        c.emplace_back("blow_up");
-    if (!metric_scenes.empty()) {
-        for (const char* k : {"validation_every", "validation_end_time", "steps_run", "validation_s", "validation_file"})
-            c.emplace_back(k);
-        for (const auto& m : validation_metrics())
-            if (metric_scenes.count(m.scene))
-                for (const auto& k : m.summary_columns) c.push_back(k);
-    }
-    return c;
+    if (metric_scenes.empty()) return t;
+    // Empty for a run without validation.
+    auto validated = [](auto cell) {
+        return [cell](R r) { return r.run.validation.enabled() ? cell(r) : std::string(); };
+    };
+    t.add("validation_every", validated([](R r) { return format_number(r.run.validation.every); }))
+        .add("validation_end_time", validated([](R r) { return format_number(r.run.validation.end_time); }))
+        .add("steps_run", validated([whole](R r) { return whole(r.result.steps.size()); }))
+        .add("validation_s", validated([](R r) { return format_number(r.result.validation_seconds); }))
+        .add("validation_file", validated([](R r) {
+                 std::string name;
+                 for (const auto& f : r.result.files)
+                     if (f.size() >= 15 && f.compare(f.size() - 15, 15, "_validation.csv") == 0)
+                         name = fs::path(f).filename().string();
+                 return name;
+             }));
+    for (const auto& m : validation_metrics())
+        if (metric_scenes.count(m.scene))
+            for (const auto& k : m.summary_columns)
+                t.add(k, validated([k](R r) {
+                          for (const auto& [key, v] : r.result.validation_summary)
+                              if (key == k) return format_number(v);
+                          return std::string();
+                      }));
+    return t;
 }
 
-std::vector<std::string> runs_csv_row(const std::vector<std::string>& columns, const PlannedRun& run,
-                                      const SceneRunResult& r, const std::string& steps_file) {
-    std::map<std::string, std::string> cell;
-    cell["run_id"] = run.run_id;
-    cell["config"] = run.config;
-    cell["scene"] = run.scene;
-    cell["repetition"] = std::to_string(run.repetition);
-    cell["backend"] = run.solver.backend == BackendKind::cuda ? "cuda" : "host";
-    cell["device"] = r.device;
-    cell["particles"] = std::to_string(r.particles);
-    cell["fluid"] = std::to_string(r.fluid);
-    cell["boundary"] = std::to_string(r.boundary);
-    cell["dp"] = format_number(r.dp);
-    cell["steps"] = std::to_string(run.steps);
-    cell["warmup"] = std::to_string(run.warmup);
-    for (const auto& [k, v] : run.solver_settings) cell[k] = v;
-    for (const auto& [k, v] : run.scene_options) cell["set." + k] = v;
-    double step_median = 0;
-    for (const auto& m : time_metrics()) {
-        const Summary s = summarize(metric_series(r, m));
-        cell[m + "_median"] = format_number(s.median);
-        cell[m + "_q1"] = format_number(s.q1);
-        cell[m + "_q3"] = format_number(s.q3);
-        cell[m + "_min"] = format_number(s.min);
-        if (m == "step_ms") step_median = s.median;
-    }
-    cell["mparticle_steps_per_s"] = step_median > 0 ? format_number(double(r.particles) / (step_median * 1e3)) : "";
-    cell["bytes_per_particle"] = r.particles ? format_number(double(r.bytes_allocated) / double(r.particles)) : "";
-    cell["candidates_per_step"] = per_step(r.work.candidates, r.work.samples);
-    cell["neighbours_per_step"] = per_step(r.work.neighbours, r.work.samples);
-    cell["ranges_per_step"] = per_step(r.work.ranges, r.work.samples);
-    cell["sim_time"] = r.steps.empty() ? "0" : format_number(r.steps.back().time);
-    cell["wall_s"] = format_number(r.wall_seconds);
-    cell["steps_file"] = steps_file;
-    cell["blow_up"] = r.blow_up;
-    if (run.validation.enabled()) {
-        cell["validation_every"] = format_number(run.validation.every);
-        cell["validation_end_time"] = format_number(run.validation.end_time);
-        cell["steps_run"] = std::to_string(r.steps.size());
-        cell["validation_s"] = format_number(r.validation_seconds);
-        for (const auto& f : r.files)
-            if (f.size() >= 15 && f.compare(f.size() - 15, 15, "_validation.csv") == 0)
-                cell["validation_file"] = fs::path(f).filename().string();
-        for (const auto& [k, v] : r.validation_summary) cell[k] = format_number(v);
-    }
-    std::vector<std::string> row;
-    for (const auto& c : columns) row.push_back(cell.count(c) ? cell[c] : "");
-    return row;
-}
+std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs) { return runs_table(runs).names(); }
 
 SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run) {
     SceneRunRequest req;
@@ -179,7 +177,8 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
     const bool writing = process_ranks().rank() == 0;  // under MPI, rank 0 writes
     if (writing) fs::remove(outcome.runs_csv, ec);  // its step files are about to be replaced
 
-    const std::vector<std::string> columns = runs_csv_columns(runs);
+    const ColumnTable<RunsRow> table = runs_table(runs);
+    const std::vector<std::string> columns = table.names();
     std::vector<std::vector<std::string>> rows;
     const auto& handed_on = options.delegated.run_ids;
     for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -207,7 +206,7 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
             if (f.size() >= 10 && f.compare(f.size() - 10, 10, "_steps.csv") == 0)
                 steps_file = fs::path(f).filename().string();
         }
-        rows.push_back(runs_csv_row(columns, run, result, steps_file));
+        rows.push_back(table.cells(RunsRow(run, result, steps_file)));
         if (!options.quiet) {
             const Summary update = summarize(metric_series(result, "update_ms"));
             const Summary step = summarize(metric_series(result, "step_ms"));

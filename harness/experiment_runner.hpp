@@ -5,10 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "column_table.hpp"
 #include "experiment_spec.hpp"
 #include "precision_delegate.hpp"
 #include "provenance.hpp"
 #include "scene_run.hpp"
+#include "statistics.hpp"
 
 namespace sph {
 
@@ -35,10 +37,19 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
 // The run's request to run_scene, with the spec's recording choices.
 SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run);
 
-// Columns and cells of runs.csv.
+// One row of runs.csv: a run, its result, and its time metrics' summaries (computed once).
+struct RunsRow {
+    RunsRow(const PlannedRun& run, const SceneRunResult& result, std::string steps_file);
+    const PlannedRun& run;
+    const SceneRunResult& result;
+    std::string steps_file;
+    std::vector<Summary> times;  // in the order of time_metrics()
+};
+// The columns of runs.csv, each beside its value: the settings and sizes, the solver keys, the
+// scene options of any run, each time metric's median, quartiles and minimum, throughput,
+// counters; blow_up where a run records blow-ups; validation columns where a run validates.
+ColumnTable<RunsRow> runs_table(const std::vector<PlannedRun>& runs);
 std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs);
-std::vector<std::string> runs_csv_row(const std::vector<std::string>& columns, const PlannedRun& run,
-                                      const SceneRunResult& result, const std::string& steps_file);
 
 // The time metrics of runs.csv: update_ms (slowest subdomain's forces plus integration, the
 // paper's real time), update_ideal_ms (their mean), step_ms, then each phase's "<phase>_ms".

@@ -57,6 +57,12 @@ public:
 
     long long integer(const toml::table& t, const std::string& key, bool required, long long fallback,
                       long long lo, const std::string& where) const {
+        const ValueRange range = whole_from(double(lo));
+        return integer(t, key, required, fallback, lo > LLONG_MIN ? &range : nullptr, where);
+    }
+    // range nullptr: any integer.
+    long long integer(const toml::table& t, const std::string& key, bool required, long long fallback,
+                      const ValueRange* range, const std::string& where) const {
         const toml::node* n = t.get(key);
         if (!n) {
             if (required) fail(t.source(), "missing required key '" + key + "' in " + where);
@@ -64,8 +70,13 @@ public:
         }
         if (!n->is_integer()) fail(n->source(), "'" + key + "' must be an integer, not " + type_name(*n));
         const long long v = n->value<long long>().value();
-        if (lo > LLONG_MIN) check_value(*n, key, whole_from(double(lo)), std::to_string(v));
+        if (range) check_value(*n, key, *range, std::to_string(v));
         return v;
+    }
+    // A run setting (solver_settings.hpp) at the top level: its range and default from the table.
+    long run_count(const toml::table& t, const std::string& key, const std::string& where) const {
+        const RunSetting& s = run_setting(key);
+        return long(integer(t, key, s.fallback == nullptr, s.fallback ? std::stoll(s.fallback) : 0, &s.range, where));
     }
 
     double number(const toml::table& t, const std::string& key, double fallback, double lo_exclusive) const {
@@ -234,11 +245,11 @@ ExperimentSpec load_spec(const std::string& path) {
         r.fail(doc.get("name")->source(), "'name' must be a non-empty file name of letters, digits, '.', '_' or '-'");
     spec.reproduces = r.text(doc, "reproduces", true, "", top);
     spec.description = r.text(doc, "description", false, "", top);
-    spec.steps = long(r.integer(doc, "steps", true, 0, 1, top));
-    spec.warmup = long(r.integer(doc, "warmup", false, 0, 0, top));
-    spec.repetitions = long(r.integer(doc, "repetitions", false, 1, 1, top));
+    spec.steps = r.run_count(doc, "steps", top);
+    spec.warmup = r.run_count(doc, "warmup", top);
+    spec.repetitions = r.run_count(doc, "repetitions", top);
     spec.seed = r.integer(doc, "seed", false, 1, LLONG_MIN, top);
-    spec.snapshot_every = long(r.integer(doc, "snapshot_every", false, 0, 0, top));
+    spec.snapshot_every = r.run_count(doc, "snapshot_every", top);
 
     if (const toml::node* rec = doc.get("record")) {
         const toml::array* items = rec->as_array();

@@ -14,8 +14,8 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "csv_table.hpp"
+#include "experiment_preamble.hpp"
 #include "experiment_runner.hpp"
-#include "result_freshness.hpp"
 #include "statistics.hpp"
 
 namespace sph {
@@ -24,35 +24,14 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RunArgs {
-    std::string spec;
-    std::vector<std::string> settings;
-    double scale = 1.0;
-    std::string backend;
-    std::string out = "results";
-    std::vector<std::string> only;  // run ids to run (a float32 build hands float64 runs on this way)
+    ExperimentArgs experiment;  // spec, --set, --scale, --backend, --out, --only, --force
     std::string float64_binary;
-    bool dry_run = false, profile = false, force = false, quiet = false;
+    bool dry_run = false, profile = false, quiet = false;
 };
 
 constexpr long profile_steps = 20;
 constexpr double cuda_rate = 1e8;           // particle-steps per second, rough
 constexpr double host_rate_per_core = 1e6;  // particle-steps per second per core, rough
-
-// What the command line changed, in one line: part of what makes results up to date.
-std::string overrides_text(const RunArgs& a) {
-    std::string s;
-    for (const auto& kv : a.settings) s += (s.empty() ? "" : " ") + ("--set " + kv);
-    if (a.scale != 1.0) s += (s.empty() ? "" : " ") + ("--scale " + format_number(a.scale));
-    if (!a.backend.empty()) s += (s.empty() ? "" : " ") + ("--backend " + a.backend);
-    for (const auto& id : a.only) s += (s.empty() ? "" : " ") + ("--only " + id);
-    return s.empty() ? "none" : s;
-}
-
-std::string backends_of(const std::vector<PlannedRun>& runs) {
-    std::set<std::string> names;
-    for (const auto& r : runs) names.insert(r.solver.backend == BackendKind::cuda ? "cuda" : "host");
-    return names.size() == 1 ? *names.begin() : "mixed";
-}
 
 // Particles of a run, boundary included, without building a large scene: a `particles`
 // option is the fluid count, so a small version of the scene is built and its boundary,
@@ -110,7 +89,7 @@ void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
     for (int i = 0; i < ctx.argc; ++i) cmd += (i ? " " : "") + std::string(ctx.argv[i]);
     std::printf("profile pass: up to %ld steps per run, no phase timers, nothing written. For a timeline, run it under Nsight Systems:\n"
                 "  nsys profile --trace=cuda,nvtx,osrt --output=%s/%s-profile %s\n",
-                profile_steps, a.out.c_str(), spec.name.c_str(), cmd.c_str());
+                profile_steps, a.experiment.out.c_str(), spec.name.c_str(), cmd.c_str());
     for (const auto& run : runs) {
         SceneRunRequest req = scene_request(spec, run);
         req.steps = std::min(run.steps, profile_steps);
@@ -127,29 +106,11 @@ void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
 }
 
 void run_spec(const RunArgs& a, CommandContext& ctx) {
-    const ExperimentSpec spec = load_spec(a.spec);
-    check_output_folder("--out", experiment_dir(a.out, spec));
-    if (spec.stability)
-        throw InputError("experiment spec '" + spec.path + "' is a stability study ([stability]); run it with `sphbench stability " +
-                         spec.path + "`");
-    ExpandOptions ex;
-    for (const auto& [k, v] : parse_settings(a.settings)) ex.overrides.emplace_back(k, v);
-    ex.scale = a.scale;
-    ex.backend = a.backend;
-    ex.gpu_available = cuda_backend_available();
-    std::vector<PlannedRun> runs = expand(spec, ex);
-    if (!a.only.empty()) {
-        for (const auto& id : a.only)
-            if (std::none_of(runs.begin(), runs.end(), [&](const PlannedRun& r) { return r.run_id == id; }))
-                throw InputError("--only names run '" + id + "', which " + spec.path + " does not have");
-        std::erase_if(runs, [&](const PlannedRun& r) {
-            return std::find(a.only.begin(), a.only.end(), r.run_id) == a.only.end();
-        });
-    }
-
+    const Experiment e = load_experiment(a.experiment, ExperimentKind::runs);
+    const ExperimentSpec& spec = e.spec;
+    const std::vector<PlannedRun>& runs = e.runs;
     const PlannedRun& first = runs.front();
-    const bool reduced = std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.reduced_scale; });
-    const bool host_reduced = reduced && first.solver.backend == BackendKind::host && spec.host;
+    const bool host_reduced = e.reduced && first.solver.backend == BackendKind::host && spec.host;
     if (host_reduced && first.steps == spec.steps)
         std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g)\n", spec.name.c_str(), first.scale);
     else if (host_reduced)
@@ -162,39 +123,25 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
     }
     // After --dry-run, which shows every run whichever build it needs.
     DelegatedRuns delegated = plan_delegation(runs, a.float64_binary);
-    for (const auto& kv : a.settings) delegated.arguments.insert(delegated.arguments.end(), {"--set", kv});
-    if (a.scale != 1.0) delegated.arguments.insert(delegated.arguments.end(), {"--scale", format_number(a.scale)});
-    if (!a.backend.empty()) delegated.arguments.insert(delegated.arguments.end(), {"--backend", a.backend});
+    for (const auto& arg : override_arguments(a.experiment)) delegated.arguments.push_back(arg);
     if (a.profile) {
         profile_pass(spec, runs, a, ctx);
         ctx.exit_code = exit_ok;
         return;
     }
 
-    const std::string backend = backends_of(runs);
     ExperimentRunOptions opt;
-    opt.out_dir = a.out;
+    opt.out_dir = a.experiment.out;
     opt.quiet = a.quiet;
-    opt.metadata = provenance(backend, backend == "host" ? "host" : cuda_device_summary(),
-                              command_line_of(ctx.argc, ctx.argv));
-    opt.metadata.emplace_back("experiment", spec.name);
-    opt.metadata.emplace_back("reproduces", spec.reproduces);
-    opt.metadata.emplace_back("spec", spec.path);
-    opt.metadata.emplace_back("spec_hash", spec_hash(spec.path));
-    opt.metadata.emplace_back("binary_hash", binary_hash());
-    opt.metadata.emplace_back("overrides", overrides_text(a));
-    opt.metadata.emplace_back("seed", std::to_string(spec.seed));
-    opt.metadata.emplace_back("scale", format_number(first.scale));
-    opt.metadata.emplace_back("reduced_scale", reduced ? "yes" : "no");
+    opt.metadata = experiment_metadata(e, a.experiment, ctx);
     if (!delegated.run_ids.empty()) {
         opt.metadata.emplace_back("float64_binary", delegated.binary);
         opt.metadata.emplace_back("float64_binary_hash", binary_hash(delegated.binary));
     }
     opt.delegated = delegated;
 
-    const std::string runs_csv = (fs::path(experiment_dir(a.out, spec)) / "runs.csv").string();
-    if (!a.force && results_up_to_date(runs_csv, opt.metadata)) {
-        std::printf("%s: up to date (use --force to run again)\n", spec.name.c_str());
+    const std::string runs_csv = (fs::path(e.dir) / "runs.csv").string();
+    if (skip_up_to_date(e, a.experiment, runs_csv, opt.metadata)) {
         ctx.exit_code = exit_ok;
         return;
     }
@@ -213,24 +160,24 @@ void add_run_command(CLI::App& app, CommandContext& ctx) {
     CLI::App* cmd = app.add_subcommand(
         "run", "run an experiment spec (experiments/*.toml): every run, its timings and counters, into "
                "DIR/<name>/runs.csv with full provenance; skipped when spec, binary and options are unchanged");
-    cmd->add_option("spec", a->spec, "experiment spec, e.g. experiments/fig4.toml")->required();
+    cmd->add_option("spec", a->experiment.spec, "experiment spec, e.g. experiments/fig4.toml")->required();
     std::string solver_keys;
     for (const auto& k : solver_setting_keys()) solver_keys += (solver_keys.empty() ? "" : ", ") + k;
-    cmd->add_option("--set", a->settings,
+    cmd->add_option("--set", a->experiment.settings,
                     "override key=value in every run (repeatable): a solver key (" + solver_keys +
                         "), set.<scene option>, steps, warmup or repetitions");
-    cmd->add_option("--scale", a->scale, "multiply every particle count by F (dp by F^(-1/3))")
+    cmd->add_option("--scale", a->experiment.scale, "multiply every particle count by F (dp by F^(-1/3))")
         ->check(in_range(number_above(0)));
-    cmd->add_option("--backend", a->backend, "cuda, host or auto (default: the spec's, else auto)")
+    cmd->add_option("--backend", a->experiment.backend, "cuda, host or auto (default: the spec's, else auto)")
         ->check(setting_validator("backend"));
-    cmd->add_option("--out", a->out, "results folder; the experiment writes into DIR/<name>/")->capture_default_str();
-    cmd->add_option("--only", a->only, "run only this run id (repeatable); the table then holds only these");
+    cmd->add_option("--out", a->experiment.out, "results folder; the experiment writes into DIR/<name>/")->capture_default_str();
+    cmd->add_option("--only", a->experiment.only, "run only this run id (repeatable); the table then holds only these");
     cmd->add_option("--float64-binary", a->float64_binary,
                     "a float64 build of sphbench (-DSPH_DOUBLE=ON) to run the runs with precision = \"float64\"");
     cmd->add_flag("--dry-run", a->dry_run, "print the expanded runs and their estimated cost; run nothing");
     cmd->add_flag("--profile", a->profile,
                   "run a short pass of each run (20 steps, nothing written) to record under Nsight Systems");
-    cmd->add_flag("--force", a->force, "run even when the results are up to date");
+    cmd->add_flag("--force", a->experiment.force, "run even when the results are up to date");
     cmd->add_flag("--quiet", a->quiet, "no progress line and no per-run lines");
     cmd->callback([a, &ctx] { run_spec(*a, ctx); });
 }

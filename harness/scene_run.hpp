@@ -1,13 +1,16 @@
 #pragma once
 // One run of one scene: build it, step it, record every step, write what was asked for.
-// Both `sphbench simulate` and the spec-driven `sphbench run` go through here.
+// Both `sphbench simulate` and the spec-driven `sphbench run` go through here; the steps are
+// the run loop's (run_loop.hpp), with the stop rules and sinks that the request asks for.
 #include <map>
 #include <string>
 #include <vector>
 
 #include "provenance.hpp"
 #include "simulation.hpp"
+#include "step_table.hpp"
 #include "validation_recorder.hpp"
+#include "work_counter_sink.hpp"
 
 namespace sph {
 
@@ -18,7 +21,7 @@ struct SceneRunRequest {
     long steps = 100;
     long warmup = 0;              // steps run first and not recorded
     long snapshot_every = 0;      // 0: no snapshots
-    long count_work_every = 0;    // 0: work counters once, on the last step
+    long count_work_every = 0;    // 0: work counters once, on the budget's last step (none when an end time stops first)
     std::string out_dir;          // "" writes nothing
     std::string basename;         // file stem of this run's outputs
     bool write_step_csv = true;
@@ -27,11 +30,6 @@ struct SceneRunRequest {
     Metadata metadata;            // provenance lines for every file
     ValidationRequest validation; // off unless asked for: the scene's metric at output times
     bool record_blow_up = false;  // a blow-up ends the run and is reported in the result, not thrown
-};
-
-struct WorkTotals {
-    unsigned long long candidates = 0, neighbours = 0, ranges = 0;
-    long samples = 0;  // how many steps were counted
 };
 
 struct SceneRunResult {
@@ -54,9 +52,5 @@ struct SceneRunResult {
 // Throws InputError for bad input and RunError (BlowUpError) when the run fails; on a
 // blow-up the last good state is written beside the other outputs first.
 SceneRunResult run_scene(const SceneRunRequest& request);
-
-// The per-step table columns, shared by the CSV writer and its readers.
-std::vector<std::string> step_csv_columns();
-std::vector<std::string> step_csv_row(const StepRecord& r, const SceneRunResult& res);
 
 }  // namespace sph

@@ -14,11 +14,7 @@ Calibration calibrate_search(const Scene& scene, const SolverOptions& base, int 
             Simulation sim(scene, o);
             sim.step();  // the first step carries one-off costs
             std::vector<double> ms;
-            for (int k = 0; k < steps; ++k) {
-                double total = 0;
-                for (double t : sim.step().phase_ms) total += t;
-                ms.push_back(total);
-            }
+            for (int k = 0; k < steps; ++k) ms.push_back(sim.step().step_ms());
             const CalibrationTrial t{o.search, summarize(ms).median};
             c.trials.push_back(t);
             if (t.median_step_ms < best) {

@@ -14,7 +14,7 @@ namespace {
 struct SimulateArgs {
     std::string scene;
     std::vector<std::string> settings;
-    long steps = 100, warmup = 10, snapshot_every = 0;
+    long steps = 0, warmup = 0, snapshot_every = 0;  // defaults: the run settings table's
     std::string out = "results/simulate";
     bool quiet = false;
     bool auto_search = false;
@@ -25,9 +25,7 @@ struct SimulateArgs {
 void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
     std::vector<double> step_ms, update_ms, forces_ms;
     for (const auto& s : r.steps) {
-        double total = 0;
-        for (double t : s.phase_ms) total += t;
-        step_ms.push_back(total);
+        step_ms.push_back(s.step_ms());
         update_ms.push_back(s.update_ms());
         forces_ms.push_back(s.phase_ms[std::size_t(Phase::forces)]);
     }
@@ -62,12 +60,14 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     CLI::App* cmd = app.add_subcommand("simulate", "run one scene for N steps, show progress, report its speed");
     cmd->add_option("scene", args->scene, "scene name (see `sphbench info`)")->required();
     cmd->add_option("--set", args->settings, "scene option key=value (repeatable), e.g. particles=2980000");
-    cmd->add_option("--steps", args->steps, "steps to record")->check(in_range(whole_from(1)))->capture_default_str();
-    cmd->add_option("--warmup", args->warmup, "steps run first and not recorded")
-        ->check(in_range(whole_from(0)))
-        ->capture_default_str();
-    cmd->add_option("--snapshot-every", args->snapshot_every, "write an HDF5 snapshot every K steps (0: none)")
-        ->check(in_range(whole_from(0)));
+    // The run settings' flags, from their table (solver_settings.hpp): the spec keys' ranges.
+    for (auto [key, field] : {std::pair{"steps", &args->steps}, std::pair{"warmup", &args->warmup},
+                              std::pair{"snapshot_every", &args->snapshot_every}}) {
+        const RunSetting& s = run_setting(key);
+        *field = std::stol(s.simulate_default);
+        CLI::Option* o = cmd->add_option(setting_flag(s), *field, s.help)->check(in_range(s.range));
+        if (*field != 0) o->capture_default_str();
+    }
     cmd->add_option("--out", args->out, "output folder")->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "no progress line");
     cmd->add_flag("--auto-search", args->auto_search,

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "multi/load_balancer.hpp"
@@ -52,6 +53,16 @@ const std::vector<SolverSetting>& settings() {
         {"precision", SettingKind::text, build_precision(), {}, {"float32", "float64"}, nullptr,
          "float32 or float64: fixed when sphbench is compiled, so a spec's float64 runs need a float64 build",
          false},
+    };
+    return table;
+}
+
+const std::vector<RunSetting>& run_settings() {
+    static const std::vector<RunSetting> table = {
+        {"steps", whole_from(1), nullptr, "100", true, "steps to record"},
+        {"warmup", whole_from(0), "0", "10", true, "steps run first and not recorded"},
+        {"snapshot_every", whole_from(0), "0", "0", false, "write an HDF5 snapshot every K steps (0: none)"},
+        {"repetitions", whole_from(1), "1", nullptr, true, "runs of each configuration, each its own row"},
     };
     return table;
 }
@@ -187,6 +198,30 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
     o.cfl = std::stod(c.at("cfl"));
     o.diffusion = c.at("diffusion") == "true";
     return o;
+}
+
+const std::vector<RunSetting>& run_settings_table() { return run_settings(); }
+
+const RunSetting* find_run_setting(const std::string& key) {
+    for (const auto& s : run_settings())
+        if (key == s.key) return &s;
+    return nullptr;
+}
+
+const RunSetting& run_setting(const std::string& key) {
+    const RunSetting* s = find_run_setting(key);
+    if (!s) throw std::logic_error("no run setting '" + key + "'");
+    return *s;
+}
+
+std::string setting_flag(const RunSetting& s) {
+    std::string flag = s.key;
+    std::replace(flag.begin(), flag.end(), '_', '-');
+    return "--" + flag;
+}
+
+long check_run_value(const std::string& key, const std::string& text, const std::string& name) {
+    return std::stol(run_setting(key).range.check(name, text));
 }
 
 const char* build_precision() {

@@ -56,6 +56,29 @@ SettingMap complete_solver_settings(const SettingMap& given);
 // device map does not give one GPU per subdomain.
 SolverOptions to_solver_options(const SettingMap& complete, bool gpu_available);
 
+// A setting of a run rather than of the solver: how many steps, how many of them first and not
+// recorded, how often a snapshot, how many repetitions. A whole number each, read from a spec's
+// top level, from `--set` and (not repetitions) from a `simulate` flag, all checked against the
+// one range here.
+struct RunSetting {
+    const char* key;               // spec key and `--set` key
+    ValueRange range;
+    const char* fallback;          // a spec's default; nullptr: the spec must give it
+    const char* simulate_default;  // `simulate`'s default (it warms up by default); nullptr: no flag
+    bool settable;                 // a `--set` key
+    const char* help;
+};
+
+// steps, warmup, snapshot_every, repetitions.
+const std::vector<RunSetting>& run_settings_table();
+// Throws std::logic_error for a key not in the table (a programming error).
+const RunSetting& run_setting(const std::string& key);
+const RunSetting* find_run_setting(const std::string& key);
+// "--snapshot-every".
+std::string setting_flag(const RunSetting& s);
+// Checks a value given as text; throws InputError "NAME: ..." as check_solver_value does.
+long check_run_value(const std::string& key, const std::string& text, const std::string& name);
+
 // "float32", or "float64" in a build with -DSPH_DOUBLE=ON. Precision is fixed when the solver
 // is compiled, so a run asking for the other one needs the other build (precision_delegate.hpp).
 const char* build_precision();

@@ -9,12 +9,12 @@
 // outside [0.5, 2] rho0. A fixed simulated time, not a fixed step count, so that a small CFL
 // is not judged on a shorter stretch of the flow than a large one.
 #include <cstdint>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "energy_monitor.hpp"
 #include "simulation.hpp"
+#include "step_sink.hpp"
 
 namespace sph {
 
@@ -33,12 +33,15 @@ struct TrialOutcome {
     long failed_step = 0;  // the rest: only when it blew up
     std::uint32_t particle = 0;
     std::string quantity, message;
-    std::optional<SnapshotData> last_good;
 };
 
-// Runs one trial; `sample_every` > 0 calls `sample` with the state every that many steps
-// (and at step 0 and the last step). Throws InputError when the target needs more than
-// max_steps steps, RunError for anything but a blow-up.
+// Runs one trial on the run loop (run_loop.hpp) and feeds its steps to `sinks` (an energy
+// monitor, the last good state). Throws InputError when the target needs more than max_steps
+// steps, RunError for anything but a blow-up.
+TrialOutcome run_trial(const Scene& scene, const SolverOptions& solver, const TrialTarget& target,
+                       const std::vector<StepSink*>& sinks);
+// The same with an energy monitor: `sample_every` > 0 samples the state every that many steps
+// (and at step 0 and the last step) into `samples`.
 TrialOutcome run_trial(const Scene& scene, const SolverOptions& solver, const TrialTarget& target,
                        long sample_every = 0, std::vector<EnergySample>* samples = nullptr);
 

@@ -271,6 +271,55 @@ TEST_F(SettingsTableTest, TheIssuesCommandLinesGetOneSentenceEach) {
     EXPECT_EQ(m, "--backend: 'gpu' is not one of \"auto\", \"cuda\" or \"host\"");
 }
 
+// steps, warmup, snapshot_every and repetitions: one range each, read alike from a spec's top
+// level, from `--set` and from `simulate`'s flag.
+TEST_F(SettingsTableTest, RunSettingsAreRefusedAlikeBySpecSetAndSimulate) {
+    auto top_level_error = [&](const std::string& key, const std::string& value) {
+        const std::string path = (dir_ / "top.toml").string();
+        std::ofstream out(path);
+        out << "name = \"x\"\nreproduces = \"y\"\n";
+        if (key != "steps") out << "steps = 1\n";
+        out << key << " = " << value << "\n";
+        if (key == "snapshot_every") out << "record = [\"snapshots\"]\n";
+        out << "[[runs]]\nscene = \"tank\"\n";
+        out.close();
+        try {
+            load_spec(path);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    int compared = 0;
+    for (const RunSetting& s : run_settings_table()) {
+        const std::string key = s.key, flag = setting_flag(s);
+        ASSERT_TRUE(std::isfinite(s.range.lo)) << key;
+        const std::string good = format_number(s.range.lo + (key == "snapshot_every" ? 1 : 0));
+        const std::string below = format_number(s.range.lo - 1);
+        EXPECT_EQ(top_level_error(key, good), "") << key << " = " << good;
+        if (s.settable) {
+            EXPECT_EQ(set_error(key, good), "") << "--set " << key << "=" << good;
+        }
+        const std::string from_spec = after(top_level_error(key, below), ": " + key + ": ");
+        ASSERT_NE(from_spec, "") << key << " = " << below << " is refused, naming the key";
+        EXPECT_NE(from_spec.find(below), std::string::npos) << from_spec;
+        EXPECT_NE(from_spec.find(s.range.describe()), std::string::npos) << from_spec;
+        if (s.settable) {
+            EXPECT_EQ(after(set_error(key, below), "--set " + key + ": "), from_spec) << key;
+        }
+        if (s.simulate_default) {
+            std::string m;
+            EXPECT_EQ(sphbench({"simulate", "tank", flag, below}, m), exit_usage) << flag;
+            EXPECT_EQ(after(m, flag + ": "), from_spec) << flag;
+            ++compared;
+        }
+    }
+    EXPECT_EQ(compared, 3);  // steps, warmup, snapshot_every
+    // steps has no default in a spec; `simulate` warms up by default.
+    EXPECT_EQ(run_setting("steps").fallback, nullptr);
+    EXPECT_STREQ(run_setting("warmup").simulate_default, "10");
+}
+
 TEST_F(SettingsTableTest, AnOutputFolderThatIsAFileIsRefusedBeforeAnyRun) {
     const std::string file = (dir_ / "taken").string();
     std::ofstream(file) << "not a folder\n";
