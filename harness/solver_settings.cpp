@@ -35,9 +35,9 @@ const std::vector<SolverSetting>& settings() {
          "nccl",
          true},
         {"overlap", SettingKind::boolean, "true", {}, {}, nullptr,
-         "paper 5.3, several subdomains: update the boundary slices first and send them whole while the inner "
-         "slices are updated, the balancer deciding under the forces (off: balance and exchange at the start of "
-         "each step, nothing overlapped; the particles are the same)",
+         "the communication optimisation of paper 5.3 (several subdomains): boundary slices updated first and sent "
+         "whole while the inner slices are updated, the repartition decided under the forces; off: balance and "
+         "exchange at the start of each step, nothing overlapped (the particles are the same)",
          true},
         {"cells_per_support", SettingKind::integer, "1", whole_from(1, 4), {}, nullptr,
          "Smaller Cell's n: cell size = support radius / n", true},
