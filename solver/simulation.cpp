@@ -223,12 +223,13 @@ const StepRecord& Simulation::step() {
     }
     if (overlap) {
         // The repartition delayed into the update (paper 5.3): decided on the host while the
-        // forces run, from the previous step's times; its slices travel with this step's
-        // exchange.
+        // forces run, from the previous step's times (scaled to the particles each subdomain
+        // owns now: the last move has taken effect since they were measured); its slices
+        // travel with this step's exchange.
         ScopedPhase ph(host_clock_, Phase::balance, n, 0);
         std::vector<double> times;
         for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
-        record_.slices_moved = domain_->decide_balance(n, times);
+        record_.slices_moved = domain_->decide_balance(n, times, record_.subdomain_particles);
     }
     std::vector<StepStats> local_stats;
     for (int d = 0; d < count; ++d) {

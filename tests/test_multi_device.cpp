@@ -221,6 +221,46 @@ TEST(OverlapSwitch, ParticlesCrossingSlabBoundariesWhileOverlappedAreRight) {
                 migrated, left, reach);
 }
 
+// The repartition delayed into the update: the move decided at one step takes effect with
+// that step's exchange, and the next step decides from times measured before it took effect.
+// Scaled to the particles owned now, those times show the move made; taken as they are, they
+// would ask for it again (and the slabs would swing past the balance and back).
+TEST(OverlapSwitch, DelayedRepartitionIsNotMadeTwice) {
+    const Scene s = test::small_dambreak("0.04");
+    Simulation probe(s, SolverOptions{});
+    const ParticleArrays all = make_particle_arrays(s, probe.grid());
+    auto alone = make_single_process_group();
+    SlabDomain domain(probe.grid().view, 2, 1, "equal-time", all, *alone, true);
+    const SubdomainConfig cfg{s.params, probe.grid().view, s.kernel, true, SearchOptions{}};
+    std::vector<std::unique_ptr<Subdomain>> subs;
+    for (const ParticleArrays& p : domain.local_parts(all)) {
+        subs.push_back(make_host_subdomain(cfg, all.size()));
+        subs.back()->upload(p);
+    }
+    domain.connect(subs, TransportKind::automatic);
+    for (auto& d : subs) d->sort_by_cell();
+    domain.exchange(subs);
+    const std::vector<std::size_t> measured = {subs[0]->active_count(), subs[1]->active_count()};
+    const std::vector<double> times = {2e-3 * double(measured[0]), 1e-3 * double(measured[1])};  // 2x per particle
+    domain.read_slices(subs);
+    const int first = domain.decide_balance(2, times, measured);
+    EXPECT_GT(first, 0) << "a 2x imbalance moved nothing";
+    // This step's exchange carries the move (no update: the particles stay where they are).
+    domain.set_reach(0);
+    domain.begin_exchange(subs);
+    domain.finish_exchange(subs);
+    for (int d = 0; d < 2; ++d) {
+        domain.drop_ghosts(d, *subs[d]);
+        domain.settle(d, *subs[d]);
+    }
+    domain.settled();
+    EXPECT_LT(subs[0]->active_count(), measured[0]);
+    EXPECT_EQ(subs[0]->active_count() + subs[1]->active_count(), measured[0] + measured[1]);
+    domain.read_slices(subs);
+    EXPECT_EQ(domain.decide_balance(3, times, measured), 0) << "the move was made again";
+    EXPECT_GT(domain.decide_balance(3, times, {}), 0) << "unscaled, the stale times should have asked again";
+}
+
 // The boundary slices of a subdomain: those a particle moving at most `reach` slices may
 // leave for another subdomain's extended slab, after the balancer's move.
 TEST(OverlapSwitch, BoundarySlicesCoverTheGhostsAndThePotentialMigrants) {

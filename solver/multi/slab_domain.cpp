@@ -67,8 +67,8 @@ void SlabDomain::drop_ghosts(int local, Subdomain& sub) const {
 int SlabDomain::rebalance(std::vector<std::unique_ptr<Subdomain>>& subs, long step,
                           const std::vector<double>& update_times) {
     if (!split() || int(update_times.size()) != subdomains()) return 0;  // no timed step yet
-    read_slices(subs);
-    return decide_balance(step, update_times);
+    read_slices(subs);  // the times were measured on these slabs: no scaling
+    return decide_balance(step, update_times, {});
 }
 
 void SlabDomain::read_slices(std::vector<std::unique_ptr<Subdomain>>& subs) {
@@ -98,10 +98,16 @@ std::vector<long long> SlabDomain::per_slice_counts() const {
     return per_slice;
 }
 
-int SlabDomain::decide_balance(long step, const std::vector<double>& update_times) {
+int SlabDomain::decide_balance(long step, const std::vector<double>& update_times,
+                               const std::vector<std::size_t>& measured_particles) {
     if (!split() || int(update_times.size()) != subdomains()) return 0;  // no timed step yet
     const std::vector<long long> per_slice = per_slice_counts();
-    return slabs_.apply_moves(balancer_->decide(slabs_, BalanceInput{update_times, per_slice, step}));
+    std::vector<double> times = update_times;
+    if (int(measured_particles.size()) == subdomains())
+        for (int d = 0; d < subdomains(); ++d)
+            if (measured_particles[d] > 0)
+                times[d] *= double(slabs_.particles(d, per_slice)) / double(measured_particles[d]);
+    return slabs_.apply_moves(balancer_->decide(slabs_, BalanceInput{times, per_slice, step}));
 }
 
 void SlabDomain::set_reach(double max_displacement) {

@@ -67,7 +67,13 @@ public:
     ExchangeCounters settled();  // the counters of the exchange just settled (every rank)
     // cell_start at the owned slices of each local subdomain, after its sort.
     void read_slices(std::vector<std::unique_ptr<Subdomain>>& subs);
-    int decide_balance(long step, const std::vector<double>& update_times);
+    // The move for the exchange at the end of this step, from the last step's update times
+    // (all subdomains, in order; empty before the first timed step). Those were measured with
+    // measured_particles owned per subdomain, on the slabs before this step's settle, which
+    // may have moved since: the balancer is given each time scaled to the particles owned
+    // now (the same time per particle), so that a move already made is not made again.
+    int decide_balance(long step, const std::vector<double>& update_times,
+                       const std::vector<std::size_t>& measured_particles);
     // How far (metres along x) any particle can move in this step's update: how many slices
     // the boundary areas must hold beyond the neighbours' extended slabs.
     void set_reach(double max_displacement);
