@@ -56,10 +56,11 @@ def with_speedups(t):
     return many
 
 
-def describe(r):
+def describe(r, unit="GPU"):
+    """unit: what a device is ("GPU"; "subdomain" on the host)."""
     if r.devices == 1:
-        return f"  {r.group}, 1 GPU: W_1 {r.wall_ms:.3f} ms per step (the reference; one subdomain exchanges nothing)"
-    head = f"  {r.group}, {r.devices} GPUs, {'with' if r.overlap else 'without'}: "
+        return f"  {r.group}, 1 {unit}: W_1 {r.wall_ms:.3f} ms per step (the reference; one subdomain exchanges nothing)"
+    head = f"  {r.group}, {r.devices} {unit}s, {'with' if r.overlap else 'without'}: "
     if isinstance(r.note, str):
         return head + f"{r.note} (wall {r.wall_ms:.3f} ms per step)"
     if not np.isfinite(r.speedup):
@@ -86,7 +87,7 @@ def main(argv=None):
     if not names:
         print("  no GPU: the subdomains share the host's cores, so no speedup is shown; the times per step are")
     for r in t.sort_values(["group", "devices", "overlap"], ascending=[True, True, False]).itertuples():
-        print(describe(r))
+        print(describe(r, "GPU" if names else "subdomain"))
     sphplot.apply_style()
     fig, (a, b) = plt.subplots(1, 2, figsize=(12.0, 4.4), gridspec_kw={"width_ratios": [1.3, 1]})
     groups = list(dict.fromkeys(t.group))
