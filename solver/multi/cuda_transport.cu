@@ -88,17 +88,15 @@ public:
     void mark_done(int d) {
         SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
         SPH_CUDA_CHECK(cudaEventRecord(lanes_[d].done, lanes_[d].copy));
-        lanes_[d].in_flight = true;
     }
-    // Each subdomain's compute stream waits for the copies of every copy stream in flight
-    // that touched it (its own, and those of the subdomains that sent to it).
+    // For each pair (from, to) of the delivery, the compute streams of both wait for the
+    // copies of from's copy stream (its sends; with NCCL a pair (d, d) stands for d's receives).
     void finish(const std::vector<std::unique_ptr<Subdomain>>& subs, const std::set<std::pair<int, int>>& pairs) {
         for (const auto& [from, to] : pairs)
             for (int waiter : {from, to}) {
                 SPH_CUDA_CHECK(cudaSetDevice(lanes_[waiter].device));
                 SPH_CUDA_CHECK(cudaStreamWaitEvent(static_cast<cudaStream_t>(subs[waiter]->stream()), lanes_[from].done, 0));
             }
-        for (Lane& l : lanes_) l.in_flight = false;
     }
 
 private:
@@ -106,7 +104,6 @@ private:
         int device;
         cudaStream_t copy;
         cudaEvent_t ready, done;
-        bool in_flight;
     };
     std::vector<Lane> lanes_;
 };
