@@ -20,7 +20,7 @@ std::vector<std::string> step_csv_columns() {
     // update_ms is the paper's real wall time: the slowest subdomain's forces plus integration;
     // update_ideal_ms is the mean over subdomains (paper Fig. 5 and 8).
     for (const char* k : {"update_ms", "update_ideal_ms", "step_ms", "wall_ms", "subdomains", "slices_moved", "particles_migrated",
-                          "ghosts_sent", "bytes_exchanged", "subdomain_update_ms", "subdomain_particles"})
+                          "ghosts_sent", "bytes_exchanged", "subdomain_update_ms", "subdomain_particles", "transfer_ms"})
         c.push_back(k);
     return c;
 }
@@ -63,6 +63,7 @@ std::vector<std::string> step_csv_row(const StepRecord& r, const SceneRunResult&
     row.push_back(std::to_string(r.exchange.bytes));
     row.push_back(per_update);
     row.push_back(per_particles);
+    row.push_back(f(r.transfer_ms));
     return row;
 }
 

@@ -34,6 +34,8 @@ def per_run(runs, steps, gpus):
         rows.append({"group": labels[i], "devices": n, "overlap": as_bool(run["overlap"]),
                      "wall_ms": s["wall_ms"].mean(), "update_ms": s["update_ms"].mean(),
                      "exchange_ms": sphplot.column(s, "exchange_ms", np.nan).mean(),
+                     "transfer_ms": pd.to_numeric(sphplot.column(s, "transfer_ms", np.nan), errors="coerce").mean(),
+                     "integrate_ms": pd.to_numeric(sphplot.column(s, "integrate_ms", np.nan), errors="coerce").mean(),
                      "note": multigpu.shared_note(n, gpus)})
     return pd.DataFrame(rows)
 
@@ -44,7 +46,7 @@ def with_speedups(t):
     t = t.assign(overlap=t.overlap | (t.devices == 1))  # one subdomain never overlaps: one reference row
     many = t.groupby(["group", "devices", "overlap"], as_index=False, sort=False).agg(
         wall_ms=("wall_ms", "mean"), update_ms=("update_ms", "mean"), exchange_ms=("exchange_ms", "mean"),
-        note=("note", "first"))
+        transfer_ms=("transfer_ms", "mean"), integrate_ms=("integrate_ms", "mean"), note=("note", "first"))
     many["W1"] = many.group.map(w1)
     ok = many.note.isna() & many.W1.notna() & (many.wall_ms > 0)
     many["speedup"] = np.where(ok, many.W1 / many.wall_ms, np.nan)
@@ -68,6 +70,8 @@ def describe(r, unit="GPU"):
     text = head + f"speedup {r.speedup:.3f} (W_1 {r.W1:.3f} ms, W_{r.devices} {r.wall_ms:.3f} ms)"
     if r.overlap and np.isfinite(r.gain_pct):
         text += f", gain over without {r.gain_pct:+.1f}%"
+    if r.overlap and np.isfinite(r.transfer_ms):  # the exchange's copies, run under the inner update
+        text += f"; transfers {r.transfer_ms:.3f} ms per step under integrate {r.integrate_ms:.3f} ms"
     return text
 
 

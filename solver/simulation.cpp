@@ -266,6 +266,11 @@ const StepRecord& Simulation::step() {
     }
     gather_record(local_ms, local_particles);
     const PhaseTimes host = host_clock_.collect();
+    record_.transfer_ms = host[std::size_t(Phase::exchange)];
+    if (overlap && options_.timing) {
+        const double on_device = domain_->last_transfer_ms();  // waits for the copies
+        if (on_device >= 0) record_.transfer_ms = on_device;
+    }
     // Phase times overlap where the host waits for device work launched in an earlier phase;
     // the wall clock of the whole step (the subdomain clocks above have synchronised) does not.
     record_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();

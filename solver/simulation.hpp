@@ -67,6 +67,10 @@ struct StepRecord {
     std::size_t out_of_domain = 0;
     int slices_moved = 0;
     ExchangeCounters exchange;
+    // The transfers of the step's exchange alone: overlapped on the CUDA backend (peer, nccl),
+    // the copies on the transport's streams (CUDA events), which run under the inner update
+    // and so are not part of the phases; otherwise the host's exchange phase.
+    double transfer_ms = 0;
     double wall_ms = 0;  // host wall clock of the whole step
 
     // The paper's real wall time of the update: the slowest subdomain's forces + integration.

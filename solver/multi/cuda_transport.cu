@@ -60,7 +60,8 @@ public:
             l.device = s->device();
             SPH_CUDA_CHECK(cudaStreamCreateWithFlags(&l.copy, cudaStreamNonBlocking));
             SPH_CUDA_CHECK(cudaEventCreateWithFlags(&l.ready, cudaEventDisableTiming));
-            SPH_CUDA_CHECK(cudaEventCreateWithFlags(&l.done, cudaEventDisableTiming));
+            SPH_CUDA_CHECK(cudaEventCreate(&l.start));  // start and done time the copies
+            SPH_CUDA_CHECK(cudaEventCreate(&l.done));
             lanes_.push_back(l);
         }
     }
@@ -68,6 +69,7 @@ public:
         for (Lane& l : lanes_) {
             cudaSetDevice(l.device);  // unchecked: destructors must not throw
             cudaEventDestroy(l.ready);
+            cudaEventDestroy(l.start);
             cudaEventDestroy(l.done);
             cudaStreamDestroy(l.copy);
         }
@@ -85,9 +87,28 @@ public:
         SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
         SPH_CUDA_CHECK(cudaStreamWaitEvent(lanes_[d].copy, lanes_[other].ready, 0));
     }
+    // After d's copy stream has been ordered after the ready marks: its copies start here.
+    void mark_start(int d) {
+        SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
+        SPH_CUDA_CHECK(cudaEventRecord(lanes_[d].start, lanes_[d].copy));
+    }
     void mark_done(int d) {
         SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
         SPH_CUDA_CHECK(cudaEventRecord(lanes_[d].done, lanes_[d].copy));
+        timed_.insert(d);
+    }
+    // The longest of the copy streams marked since the last call, start to done (waits for them).
+    double elapsed_ms() {
+        double longest = timed_.empty() ? -1 : 0;
+        for (int d : timed_) {
+            SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
+            SPH_CUDA_CHECK(cudaEventSynchronize(lanes_[d].done));
+            float ms = 0;
+            SPH_CUDA_CHECK(cudaEventElapsedTime(&ms, lanes_[d].start, lanes_[d].done));
+            longest = std::max(longest, double(ms));
+        }
+        timed_.clear();
+        return longest;
     }
     // For each pair (from, to) of the delivery, the compute streams of both wait for the
     // copies of from's copy stream (its sends; with NCCL a pair (d, d) stands for d's receives).
@@ -103,9 +124,10 @@ private:
     struct Lane {
         int device;
         cudaStream_t copy;
-        cudaEvent_t ready, done;
+        cudaEvent_t ready, start, done;
     };
     std::vector<Lane> lanes_;
+    std::set<int> timed_;
 };
 
 // The pairs (source, destination) of an exchange, each once.
@@ -134,6 +156,7 @@ public:
             lanes_.copy_after_ready(from, to);
             if (sources.insert(from).second) lanes_.copy_after_ready(from, from);
         }
+        for (int from : sources) lanes_.mark_start(from);
         for (const ParticleTransfer& t : transfers) copy_transfer(subs, t, areas[t.to], lanes_.copy(t.from));
         for (int from : sources) lanes_.mark_done(from);
     }
@@ -141,6 +164,7 @@ public:
         lanes_.finish(subs, pending_);
         pending_.clear();
     }
+    double last_delivery_ms() override { return lanes_.elapsed_ms(); }
     void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
                  const std::vector<ParticleSpan>& areas) override {
         const auto pairs = pairs_of(transfers);
@@ -294,6 +318,7 @@ public:
         std::set<int> involved;
         for (const auto& [from, to] : pending_) involved.insert({from, to});
         for (int d : involved) lanes_.copy_after_ready(d, d);
+        for (int d : involved) lanes_.mark_start(d);
         comms_.begin_group();
         for (const ParticleTransfer& t : transfers) pass(subs, t, areas[t.to], lanes_.copy(t.from), lanes_.copy(t.to));
         comms_.end_group();
@@ -306,6 +331,7 @@ public:
         lanes_.finish(subs, pending_);
         pending_.clear();
     }
+    double last_delivery_ms() override { return lanes_.elapsed_ms(); }
     void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
                  const std::vector<ParticleSpan>& areas) override {
         comms_.begin_group();

@@ -49,6 +49,10 @@ public:
         deliver(subs, transfers, receive_areas);
     }
     virtual void finish_delivery(std::vector<std::unique_ptr<Subdomain>>& subs) { (void)subs; }
+    // How long the copies of the last delivery begun took where they ran (CUDA events on the
+    // transport's streams: the longest stream, from its first copy to its last), waiting for
+    // them; -1 where the host's wall time of begin_delivery covers them (host copies, staging).
+    virtual double last_delivery_ms() { return -1; }
 };
 
 enum class TransportKind { automatic, host, peer, staged, nccl };

@@ -87,6 +87,9 @@ public:
     void begin_exchange(std::vector<std::unique_ptr<Subdomain>>& subs);
     void finish_exchange(std::vector<std::unique_ptr<Subdomain>>& subs) { exchange_->finish_boundary_exchange(subs); }
     int reach() const { return reach_; }
+    // The copies of the exchange begun last, timed where they ran (CUDA events on the
+    // transport's streams; waits for them); -1 where the host's time of begin_exchange is theirs.
+    double last_transfer_ms() { return exchange_ ? exchange_->last_delivery_ms() : -1; }
 
     const SlabDecomposition& decomposition() const { return slabs_; }
     // Within a rank the ParticleTransport's; between ranks the RankGroup's messages.

@@ -80,6 +80,7 @@ public:
     // now owns.
     std::size_t settle(Subdomain& sub, int g, const SlabDecomposition& next);
     void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int local) { transport_->mark_ready(subs, local); }
+    double last_delivery_ms() { return transport_->last_delivery_ms(); }  // ParticleTransport's
 
     std::uint32_t slice_cells() const { return std::uint32_t(grid_.ny) * std::uint32_t(grid_.nz); }
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells(); }
