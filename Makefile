@@ -11,7 +11,7 @@ BUILD_F64 ?= build-f64
 PYTHON ?= python3
 
 .PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl \
-        table-vl perf-check perf-accept stability skip-bench accuracy reference reference-figures claims clean
+        transports table-vl perf-check perf-accept stability skip-bench accuracy reference reference-figures claims clean
 
 all: build
 
@@ -39,10 +39,16 @@ multi-gpu cll-vs-vl: build
 fig5 fig6 fig7 fig8 fig9: fig%: multi-gpu
 	$(PYTHON) plots/fig$*.py
 
-# Figure 10: the whole step per transport (the communication optimisation, paper section 6).
+# Figure 10 (paper section 6): the final speedup on 1 to 4 GPUs with and without the
+# communication optimisation of section 5.3.
 fig10: build
 	$(SPHBENCH) run experiments/fig10.toml
 	$(PYTHON) plots/fig10.py
+
+# Not a paper figure: the whole step per transport (staged, peer, nccl) on 1 and 2 GPUs.
+transports: build
+	$(SPHBENCH) run experiments/transports.toml
+	$(PYTHON) plots/transports.py
 
 table-vl: cll-vs-vl
 	$(PYTHON) plots/table_vl.py

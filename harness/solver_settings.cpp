@@ -35,6 +35,11 @@ const std::vector<SolverSetting>& settings() {
          "how particles travel between subdomains: auto, host, peer (GPU to GPU), staged (through host memory) or "
          "nccl",
          true},
+        {"overlap", SettingKind::boolean, "true", {}, {}, nullptr,
+         "the communication optimisation of paper 5.3 (several subdomains): boundary slices updated first and sent "
+         "whole while the inner slices are updated, the repartition decided under the forces; off: balance and "
+         "exchange at the start of each step, nothing overlapped (the particles are the same)",
+         true},
         {"cells_per_support", SettingKind::integer, "1", whole_from(1, 4), {}, nullptr,
          "Smaller Cell's n: cell size = support radius / n", true},
         {"merge", SettingKind::boolean, "false", {}, {}, nullptr, "Cell Merging: search z-runs of cells as one range",
@@ -189,6 +194,7 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
                          std::to_string(o.subdomains) + " subdomain(s) (allowed: one GPU per subdomain)");
     o.balancer = c.at("balancer");
     o.transport = parse_transport(c.at("transport"));
+    o.overlap = c.at("overlap") == "true";
     o.search.cells_per_support = std::stoi(c.at("cells_per_support"));
     o.search.merge = c.at("merge") == "true";
     o.search.verlet = c.at("verlet") == "true";

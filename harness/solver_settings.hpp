@@ -29,8 +29,8 @@ struct SolverSetting {
 };
 
 // The table, in the column order of runs.csv: backend, devices (X-slab subdomains), gpu (GPU
-// of a one-subdomain run), device_map (GPU of each subdomain), balancer, transport,
-// cells_per_support, merge, verlet, skin, rebuild_every, fixed_dt (0: CFL-limited), cfl (0:
+// of a one-subdomain run), device_map (GPU of each subdomain), balancer, transport, overlap
+// (paper 5.3's communication hidden under the inner update), cells_per_support, merge, verlet, skin, rebuild_every, fixed_dt (0: CFL-limited), cfl (0:
 // the scene's), diffusion, precision.
 const std::vector<SolverSetting>& solver_settings_table();
 const SolverSetting* find_solver_setting(const std::string& key);

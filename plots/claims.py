@@ -170,12 +170,12 @@ def threshold_gain(folder):
 
 
 def transports(folder):
-    import fig10
     import multigpu
+    import transports as transport_plot
     if not (folder / "runs.csv").is_file():
         raise Missing(folder)
     runs, meta, steps = sphplot.load_experiment(folder)
-    t = fig10.with_speedups(fig10.per_run(runs, steps, len(multigpu.gpu_names(meta, runs))))
+    t = transport_plot.with_speedups(transport_plot.per_run(runs, steps, len(multigpu.gpu_names(meta, runs))))
     t, n = _widest(t)
     out = dict(devices=n, _meta=meta)
     for tr in ("staged", "peer", "nccl"):

@@ -135,7 +135,7 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
                          " ranks were started with the CUDA backend");
     // Slabs of about the same number of particles each; a slab keeps ghost-depth slices.
     domain_ = std::make_unique<SlabDomain>(grid_.view, n, options_.search.cells_per_support, options_.balancer, all,
-                                           ranks);
+                                           ranks, options_.overlap);
     const SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel, options_.diffusion && scene_.params.delta > 0,
                               options_.search};
     // One subdomain holds everything; a slab needs room for what balancing gives it, plus ghosts.
@@ -181,9 +181,12 @@ const StepRecord& Simulation::step() {
     const int count = int(subdomains_.size());
     record_.slices_moved = 0;
     record_.exchange = {};
+    const bool overlap = domain_->overlapping();
     // With one slab there is nothing to drop or balance (the SlabDomain calls would do
     // nothing); the test only keeps two empty phases off the timeline.
-    if (domain_->split()) {
+    if (overlap) {
+        settle_exchange(n);
+    } else if (domain_->split()) {
         // The exchange later in the step needs every particle held once: drop the stale
         // ghosts first (a move on the device).
         for (int d = 0; d < count; ++d) {
@@ -198,7 +201,8 @@ const StepRecord& Simulation::step() {
     }
     const bool verlet = options_.search.verlet;
     // The forces are taken where the previous step's update (over record_.dt) left particles.
-    if (!verlet || verlet_list_expired(record_.dt)) {
+    // (Overlapping: the settle sorted; Verlet lists run on one subdomain only.)
+    if (!overlap && (!verlet || verlet_list_expired(record_.dt))) {
         for (int d = 0; d < count; ++d) {
             ScopedPhase ph(clock(d), Phase::neighbour_list, n, d);
             subdomains_[d]->sort_by_cell();
@@ -211,10 +215,21 @@ const StepRecord& Simulation::step() {
         }
     }
     ++steps_since_build_;
-    exchange_particles(n);
+    if (overlap) domain_->read_slices(subdomains_);  // the balancer's counts and the boundary slices' ranges
+    else exchange_particles(n);
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::forces, n, d);
         verlet ? subdomains_[d]->compute_forces_listed() : subdomains_[d]->compute_forces();
+    }
+    if (overlap) {
+        // The repartition delayed into the update (paper 5.3): decided on the host while the
+        // forces run, from the previous step's times (scaled to the particles each subdomain
+        // owns now: the last move has taken effect since they were measured); its slices
+        // travel with this step's exchange.
+        ScopedPhase ph(host_clock_, Phase::balance, n, 0);
+        std::vector<double> times;
+        for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
+        record_.slices_moved = domain_->decide_balance(n, times, record_.subdomain_particles);
     }
     std::vector<StepStats> local_stats;
     for (int d = 0; d < count; ++d) {
@@ -235,9 +250,13 @@ const StepRecord& Simulation::step() {
         last.step = n;
         throw BlowUpError(m.str(), std::move(last), n, stats.bad_id, quantity[kind]);
     }
-    for (int d = 0; d < count; ++d) {
-        ScopedPhase ph(clock(d), Phase::integrate, n, d);
-        subdomains_[d]->advance(rule);
+    if (overlap) {
+        advance_overlapped(rule, stats, n);
+    } else {
+        for (int d = 0; d < count; ++d) {
+            ScopedPhase ph(clock(d), Phase::integrate, n, d);
+            subdomains_[d]->advance(rule);
+        }
     }
     std::vector<PhaseTimes> local_ms;
     std::vector<std::size_t> local_particles;
@@ -247,6 +266,11 @@ const StepRecord& Simulation::step() {
     }
     gather_record(local_ms, local_particles);
     const PhaseTimes host = host_clock_.collect();
+    record_.transfer_ms = host[std::size_t(Phase::exchange)];
+    if (overlap && options_.timing) {
+        const double on_device = domain_->last_transfer_ms();  // waits for the copies
+        if (on_device >= 0) record_.transfer_ms = on_device;
+    }
     // Phase times overlap where the host waits for device work launched in an earlier phase;
     // the wall clock of the whole step (the subdomain clocks above have synchronised) does not.
     record_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall_start).count();
@@ -273,6 +297,52 @@ void Simulation::exchange_particles(long step) {
     ScopedPhase ph(host_clock_, Phase::exchange, step, 0);
     record_.exchange = domain_->exchange(subdomains_);
     wait_for_devices();
+}
+
+// Paper section 5.3: the exchange the last step issued has arrived (the streams wait for it);
+// each subdomain drops its stale ghosts, appends what it needs of what arrived and sorts. The
+// state is then the one exchange_particles leaves, bitwise. Nothing to do before the first
+// step: the constructor exchanged.
+void Simulation::settle_exchange(long step) {
+    if (!domain_->exchange_in_flight()) return;
+    for (int d = 0; d < int(subdomains_.size()); ++d) {
+        {
+            ScopedPhase ph(clock(d), Phase::migrate, step, d);
+            domain_->drop_ghosts(d, *subdomains_[d]);
+        }
+        ScopedPhase ph(clock(d), Phase::neighbour_list, step, d);
+        domain_->settle(d, *subdomains_[d]);
+    }
+    record_.exchange = domain_->settled();
+}
+
+// The update of paper section 5.3: every subdomain's boundary slices (all a neighbour may need
+// after this update: its ghosts and every particle that may migrate to it) first, then the
+// inner slices, while the boundary slices travel (on the CUDA backend on the transport's own
+// streams, ordered after the boundary update by events; the inner update is queued before the
+// exchange is issued, so a transport that waits on the host does not hold it back).
+void Simulation::advance_overlapped(const TimeStep& rule, const StepStats& stats, long step) {
+    // How far any particle can move in this update (integration.hpp): dt |v| + dt^2 / 2 |a|,
+    // plus a shift of at most dt U. |v| is the largest fluid speed now (the last step's
+    // statistics are of the state it produced), |a| this step's.
+    const double dt = rule.dt;
+    const double vmax = std::sqrt(double(record_.stats.max_speed2));
+    const double shift = scene_.params.shift > 0 ? dt * double(rule.shift_speed) : 0.0;
+    domain_->set_reach(dt * vmax + 0.5 * dt * dt * std::sqrt(double(stats.max_accel2)) + shift);
+    const int count = int(subdomains_.size());
+    for (int d = 0; d < count; ++d) {
+        const auto cells = domain_->update_order(d);
+        {
+            ScopedPhase ph(clock(d), Phase::integrate, step, d);
+            for (int edge : {0, 1}) subdomains_[d]->advance_cells(rule, cells[edge].begin, cells[edge].end);
+        }
+        domain_->boundary_ready(subdomains_, d);
+        ScopedPhase ph(clock(d), Phase::integrate, step, d);
+        subdomains_[d]->advance_cells(rule, cells[2].begin, cells[2].end);
+    }
+    ScopedPhase ph(host_clock_, Phase::exchange, step, 0);
+    domain_->begin_exchange(subdomains_);
+    domain_->finish_exchange(subdomains_);
 }
 
 // Every subdomain's statistics merged in subdomain order, as one process would (the kinetic

@@ -1,7 +1,10 @@
 #pragma once
 // The time loop over a set of subdomains: (drop ghosts), (balance), sort, (exchange), forces,
 // diagnostics, advance (the Verlet update); with per-phase timing, NVTX ranges and the
-// blow-up check.
+// blow-up check. With several subdomains and SolverOptions::overlap (paper section 5.3):
+// (settle the last step's exchange: drop ghosts, sort), forces, (balance, on the host under
+// the forces), diagnostics, advance the boundary slices, advance the inner slices while the
+// boundary slices travel.
 // One subdomain is a plain single-device run; N subdomains split space into X slabs
 // (paper section 5), on N GPUs, on one GPU, or on the host, in one process or spread over the
 // ranks of an MPI job (multi/rank_group.hpp). The slabs' per-step life is the SlabDomain's;
@@ -33,6 +36,11 @@ struct SolverOptions {
     // them); nullptr: this process's group, process_ranks() (MPI when mpirun started it).
     RankGroup* ranks = nullptr;
     TransportKind transport = TransportKind::automatic;  // how particles travel between subdomains
+    // Paper section 5.3 (several subdomains): update the boundary slices first and send them
+    // whole while the inner slices are updated, the balancer deciding while the forces run;
+    // false: balance, then exchange, at the start of each step, nothing overlapped. The
+    // particles are bitwise the same either way.
+    bool overlap = true;
     SearchOptions search;
     double cfl = 0;       // 0: the scene's
     double fixed_dt = 0;  // > 0: a fixed step (benchmarks), no CFL
@@ -59,6 +67,10 @@ struct StepRecord {
     std::size_t out_of_domain = 0;
     int slices_moved = 0;
     ExchangeCounters exchange;
+    // The transfers of the step's exchange alone: overlapped on the CUDA backend (peer, nccl),
+    // the copies on the transport's streams (CUDA events), which run under the inner update
+    // and so are not part of the phases; otherwise the host's exchange phase.
+    double transfer_ms = 0;
     double wall_ms = 0;  // host wall clock of the whole step
 
     // The figures derived from the phase times, computed here only (the harness's tables,
@@ -122,6 +134,9 @@ public:
     std::string transport_name() const { return domain_->transport_name(); }
     const std::string& transport_note() const { return domain_->transport_note(); }
     RankGroup& ranks() const { return domain_->ranks(); }
+    // Overlapping (paper 5.3): how many slices beyond the neighbours' ghosts the last update's
+    // boundary slices reached (at least 1; more when particles may move further in a step).
+    int overlap_reach() const { return domain_->reach(); }
 
 private:
     double next_dt() const;
@@ -130,6 +145,8 @@ private:
     bool verlet_list_expired(double dt);
     void make_subdomains(const ParticleArrays& all);
     void exchange_particles(long step);
+    void settle_exchange(long step);
+    void advance_overlapped(const TimeStep& rule, const StepStats& stats, long step);
     StepStats gather_stats(const std::vector<StepStats>& local) const;
     void gather_record(const std::vector<PhaseTimes>& local_ms, const std::vector<std::size_t>& local_particles);
     SnapshotData to_snapshot(const std::vector<ParticleArrays>& parts) const;

@@ -63,6 +63,80 @@ TEST(CudaBackend, SeveralSubdomainsOnOneGpuMatchOneBitwise) {
     }
 }
 
+// Paper section 5.3 on the GPU: the boundary slices updated first and copied on the
+// transport's own streams while the inner slices are updated. Several subdomains sharing one
+// GPU with the overlap on and off, and one subdomain, give bitwise the same particles, for
+// each transport that works on one GPU, without and with a balancer moving slices (whose
+// move then travels with the boundary slices).
+TEST(CudaBackend, SeveralSubdomainsOnOneGpuOverlapOnAndOffMatchBitwise) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const Scene s = test::small_dambreak("0.02");
+    for (const TransportKind transport : {TransportKind::peer, TransportKind::staged})
+        for (const char* balancer : {"none", "simple"}) {
+            SolverOptions one, off, on;
+            one.backend = off.backend = on.backend = BackendKind::cuda;
+            one.fixed_dt = off.fixed_dt = on.fixed_dt = 1.4e-4;
+            off.subdomains = on.subdomains = 4;
+            off.device_map = on.device_map = {0, 0, 0, 0};
+            off.balancer = on.balancer = balancer;
+            off.transport = on.transport = transport;
+            off.overlap = false;
+            on.overlap = true;
+            Simulation a(s, one), b(s, off), c(s, on);
+            int moved = 0;
+            unsigned long long migrated = 0;
+            for (int k = 0; k < 200; ++k) {
+                a.step();
+                b.step();
+                const StepRecord& r = c.step();
+                moved += r.slices_moved;
+                migrated += r.exchange.particles_migrated;
+            }
+            const SnapshotData sc = c.snapshot();
+            ASSERT_EQ(sc.id.size(), s.size()) << "particles lost or duplicated";
+            const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot()),
+                       pc = test::positions_by_id(sc);
+            std::size_t differ_off = 0, differ_one = 0;
+            for (std::size_t i = 0; i < pc.size(); ++i) {
+                differ_off += pb[i] != pc[i];
+                differ_one += pa[i] != pc[i];
+            }
+            std::printf("cuda, 4 subdomains on one GPU, overlap on (transport %s, balancer %s, %d slices moved, %llu "
+                        "migrated), 200 steps: %zu particles differ from overlap off, %zu from one subdomain\n",
+                        c.transport_name().c_str(), balancer, moved, migrated, differ_off, differ_one);
+            EXPECT_EQ(differ_off, 0u) << transport_label(transport) << ", " << balancer;
+            EXPECT_EQ(differ_one, 0u) << transport_label(transport) << ", " << balancer;
+            if (std::string(balancer) != "none") {
+                EXPECT_GT(moved, 0);
+            }
+        }
+}
+
+// The same across GPUs where there are two or more (one subdomain each, every transport):
+// the copy streams of two GPUs against the order without overlap.
+TEST(CudaBackend, OverlapOnAndOffMatchBitwiseAcrossGpus) {
+    if (cuda_device_count() < 2) GTEST_SKIP() << "needs two GPUs";
+    const Scene s = test::small_dambreak("0.02");
+    for (const TransportKind transport : {TransportKind::automatic, TransportKind::staged, TransportKind::nccl}) {
+        SolverOptions off, on;
+        off.backend = on.backend = BackendKind::cuda;
+        off.fixed_dt = on.fixed_dt = 1.4e-4;
+        off.subdomains = on.subdomains = 2;
+        off.device_map = on.device_map = {0, 1};
+        off.balancer = on.balancer = "simple";
+        off.transport = on.transport = transport;
+        off.overlap = false;
+        Simulation b(s, off), c(s, on);
+        test::step_both(b, c, 200);
+        const auto pb = test::positions_by_id(b.snapshot()), pc = test::positions_by_id(c.snapshot());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < pc.size(); ++i) differ += pb[i] != pc[i];
+        std::printf("cuda, 2 GPUs, transport %s, overlap on vs off, 200 steps: %zu particles differ\n",
+                    c.transport_name().c_str(), differ);
+        EXPECT_EQ(differ, 0u) << transport_label(transport);
+    }
+}
+
 // Two subdomains on the GPU(s) (one each where there are two) against one on the host, with
 // every transport: the particles must not depend on how they travelled.
 class CudaTransports : public ::testing::TestWithParam<TransportKind> {};

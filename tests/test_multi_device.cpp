@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <numeric>
 #include <random>
 #include <set>
@@ -97,6 +99,197 @@ TEST(HostSort, MergingRunsGivesTheFullSortsOrder) {
     }
 }
 
+// Positions, velocities and densities by id: what two runs must agree on bitwise.
+std::vector<std::array<double, 7>> state_by_id(const SnapshotData& s) {
+    std::vector<std::array<double, 7>> out(s.id.size());
+    for (std::size_t i = 0; i < s.id.size(); ++i)
+        out[s.id[i]] = {s.position[3 * i], s.position[3 * i + 1], s.position[3 * i + 2], s.velocity[3 * i],
+                        s.velocity[3 * i + 1], s.velocity[3 * i + 2], s.density[i]};
+    return out;
+}
+
+// How many particles differ (NaN positions, of particles that left the domain, match NaN).
+std::size_t count_differences(const SnapshotData& a, const SnapshotData& b) {
+    const auto sa = state_by_id(a), sb = state_by_id(b);
+    if (sa.size() != sb.size()) return std::max(sa.size(), sb.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < sa.size(); ++i)
+        for (int k = 0; k < 7; ++k)
+            if (!(sa[i][k] == sb[i][k] || (std::isnan(sa[i][k]) && std::isnan(sb[i][k])))) {
+                ++differ;
+                break;
+            }
+    return differ;
+}
+
+struct OverlapCase {
+    int subdomains;
+    const char* balancer;
+    int cells_per_support;
+    bool merge;
+};
+
+class OverlapSwitch : public ::testing::TestWithParam<OverlapCase> {};
+
+// Paper section 5.3's order (boundary slices updated first and sent whole while the inner
+// slices are updated, the balancer's move taking effect with that exchange) against the
+// order without overlap (balance and exchange at the start of the step): the same particles,
+// bitwise, every 5 steps, and both the same as one subdomain.
+TEST_P(OverlapSwitch, ChangesNoParticle) {
+    const OverlapCase oc = GetParam();
+    const Scene s = test::small_dambreak("0.04");
+    SolverOptions one, off, on;
+    one.search = off.search = on.search = SearchOptions{oc.cells_per_support, oc.merge};
+    off.subdomains = on.subdomains = oc.subdomains;
+    off.balancer = on.balancer = oc.balancer;
+    off.overlap = false;
+    on.overlap = true;
+    Simulation a(s, one), b(s, off), c(s, on);
+    int moved = 0;
+    for (long k = 1; k <= 60; ++k) {
+        a.step();
+        b.step();
+        moved += c.step().slices_moved;
+        if (k % 5 == 0) {
+            const SnapshotData sb = b.snapshot(), sc = c.snapshot();
+            expect_each_particle_once(sc, s.size(), k);
+            ASSERT_EQ(count_differences(sb, sc), 0u) << "step " << k << ": overlap on against off";
+            ASSERT_EQ(count_differences(a.snapshot(), sc), 0u) << "step " << k << ": overlap on against one subdomain";
+            ASSERT_EQ(b.time(), c.time()) << "step " << k;
+        }
+    }
+    if (std::string(oc.balancer) != "none") {
+        EXPECT_GT(moved, 0) << "the balancer never moved a slice";
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Slabs, OverlapSwitch,
+                         ::testing::Values(OverlapCase{2, "none", 1, false}, OverlapCase{4, "none", 1, true},
+                                           OverlapCase{4, "simple", 1, false}, OverlapCase{2, "threshold", 2, true},
+                                           OverlapCase{3, "every:5", 2, false}, OverlapCase{4, "equal-time", 1, true}),
+                         [](const auto& info) {
+                             std::string b = info.param.balancer;
+                             for (char& c : b)
+                                 if (c == ':' || c == '-') c = '_';
+                             return std::to_string(info.param.subdomains) + "_" + b + "_n" +
+                                    std::to_string(info.param.cells_per_support);
+                         });
+
+// A block of fluid moving as one at 4 m/s along x with a step long enough to carry every
+// particle 1.5 slices: each step most particles near a boundary migrate, some past the
+// first slice beyond it, and some leave the domain (the boundary slices must reach two
+// slices past the neighbours' ghosts). Overlapped against not, and against one subdomain.
+TEST(OverlapSwitch, ParticlesCrossingSlabBoundariesWhileOverlappedAreRight) {
+    Scene s = test::random_scene(4096, 0, 1.0, 0.05, 11, 0.3, 0.02);
+    for (std::size_t i = 0; i < s.size(); ++i) {  // a 16^3 lattice of spacing dp, moving along x
+        s.position[i] = {0.1 + 0.05 * double(i % 16), 0.1 + 0.05 * double(i / 16 % 16), 0.1 + 0.05 * double(i / 256)};
+        s.velocity[i] = {4.0f + s.velocity[i][0], 0.5f + s.velocity[i][1], s.velocity[i][2]};  // the density moves a little
+        s.density[i] = 1000;
+    }
+    // A slow sound speed keeps this long step stable (dt c0 / h below 1) and a speed limit
+    // above the flow's keeps the blow-up check quiet.
+    s.params.c0 = 1;
+    s.params = finish_params(s.params);
+    const double slice = double(s.params.support);  // one cell per support
+    SolverOptions one, off, on;
+    one.fixed_dt = off.fixed_dt = on.fixed_dt = 1.5 * slice / 4.0;
+    off.subdomains = on.subdomains = 4;
+    off.balancer = on.balancer = "simple";
+    off.overlap = false;
+    one.max_speed_factor = off.max_speed_factor = on.max_speed_factor = 10;
+    Simulation a(s, one), b(s, off), c(s, on);
+    unsigned long long migrated = 0;
+    std::size_t left = 0;
+    int reach = 0;
+    for (long k = 1; k <= 4; ++k) {
+        a.step();
+        b.step();
+        const StepRecord& r = c.step();
+        migrated += r.exchange.particles_migrated;
+        left = r.out_of_domain;
+        EXPECT_GE(c.overlap_reach(), 2) << "step " << k << ": slices beyond the ghosts a particle may move";
+        reach = std::max(reach, c.overlap_reach());
+        const SnapshotData sc = c.snapshot();
+        expect_each_particle_once(sc, s.size(), k);
+        ASSERT_EQ(count_differences(b.snapshot(), sc), 0u) << "step " << k << ": overlap on against off";
+        ASSERT_EQ(count_differences(a.snapshot(), sc), 0u) << "step " << k << ": overlap on against one subdomain";
+    }
+    EXPECT_GT(migrated, 500u);
+    EXPECT_GT(left, 0u) << "no particle left the domain";
+    std::printf("a block moving 1.5 slices a step over 4 subdomains, 4 steps: %llu particles migrated, %zu left the "
+                "domain, boundary slices reaching up to %d slices past the ghosts\n",
+                migrated, left, reach);
+}
+
+// The repartition delayed into the update: the move decided at one step takes effect with
+// that step's exchange, and the next step decides from times measured before it took effect.
+// Scaled to the particles owned now, those times show the move made; taken as they are, they
+// would ask for it again (and the slabs would swing past the balance and back).
+TEST(OverlapSwitch, DelayedRepartitionIsNotMadeTwice) {
+    const Scene s = test::small_dambreak("0.04");
+    Simulation probe(s, SolverOptions{});
+    const ParticleArrays all = make_particle_arrays(s, probe.grid());
+    auto alone = make_single_process_group();
+    SlabDomain domain(probe.grid().view, 2, 1, "equal-time", all, *alone, true);
+    const SubdomainConfig cfg{s.params, probe.grid().view, s.kernel, true, SearchOptions{}};
+    std::vector<std::unique_ptr<Subdomain>> subs;
+    for (const ParticleArrays& p : domain.local_parts(all)) {
+        subs.push_back(make_host_subdomain(cfg, all.size()));
+        subs.back()->upload(p);
+    }
+    domain.connect(subs, TransportKind::automatic);
+    for (auto& d : subs) d->sort_by_cell();
+    domain.exchange(subs);
+    const std::vector<std::size_t> measured = {subs[0]->active_count(), subs[1]->active_count()};
+    const std::vector<double> times = {2e-3 * double(measured[0]), 1e-3 * double(measured[1])};  // 2x per particle
+    domain.read_slices(subs);
+    const int first = domain.decide_balance(2, times, measured);
+    EXPECT_GT(first, 0) << "a 2x imbalance moved nothing";
+    // This step's exchange carries the move (no update: the particles stay where they are).
+    domain.set_reach(0);
+    domain.begin_exchange(subs);
+    domain.finish_exchange(subs);
+    for (int d = 0; d < 2; ++d) {
+        domain.drop_ghosts(d, *subs[d]);
+        domain.settle(d, *subs[d]);
+    }
+    domain.settled();
+    EXPECT_LT(subs[0]->active_count(), measured[0]);
+    EXPECT_EQ(subs[0]->active_count() + subs[1]->active_count(), measured[0] + measured[1]);
+    domain.read_slices(subs);
+    EXPECT_EQ(domain.decide_balance(3, times, measured), 0) << "the move was made again";
+    EXPECT_GT(domain.decide_balance(3, times, {}), 0) << "unscaled, the stale times should have asked again";
+}
+
+// The boundary slices of a subdomain: those a particle moving at most `reach` slices may
+// leave for another subdomain's extended slab, after the balancer's move.
+TEST(OverlapSwitch, BoundarySlicesCoverTheGhostsAndThePotentialMigrants) {
+    const SlabDecomposition now(24, 3, 1);  // [0, 8), [8, 16), [16, 24)
+    const BoundaryArea a = boundary_area(now, now, 1, 1, 1);
+    EXPECT_EQ(a.begin, 8);
+    EXPECT_EQ(a.left_end, 10);  // ghost slice 8 of subdomain 0, and slice 9 whose particles may move into it
+    EXPECT_EQ(a.right_begin, 14);
+    EXPECT_EQ(a.end, 16);
+    const SliceRange to_left = boundary_send_slices(now, now, 1, 0, 1, 1);
+    EXPECT_EQ(to_left.begin, 8);
+    EXPECT_EQ(to_left.end, 10);
+    EXPECT_TRUE(boundary_send_slices(now, now, 0, 2, 1, 1).empty());
+    // The boundary between 1 and 2 moves two slices right: 2 sends 1 what it gives, its ghost
+    // slice and the slice beyond; 1 sends 2 nothing new beyond its ghost reach.
+    SlabDecomposition next = now;
+    next.move_boundary(1, 2);  // [8, 18), [18, 24)
+    const SliceRange given = boundary_send_slices(now, next, 2, 1, 1, 1);
+    EXPECT_EQ(given.begin, 16);
+    EXPECT_EQ(given.end, 20);
+    EXPECT_TRUE(boundary_send_slices(now, next, 1, 2, 1, 1).empty());
+    // A slab narrower than its two boundary areas has no inner area.
+    const SlabDecomposition narrow(9, 3, 1);  // [0, 3), [3, 6), [6, 9)
+    const BoundaryArea n = boundary_area(narrow, narrow, 1, 1, 2);
+    EXPECT_EQ(n.left_end, n.right_begin);
+    EXPECT_EQ(n.begin, 3);
+    EXPECT_EQ(n.end, 6);
+}
+
 TEST(MultiDeviceErrors, TooManySubdomainsForTheGridIsAClearError) {
     SolverOptions o;
     o.subdomains = 500;
@@ -122,16 +315,25 @@ TEST(MultiDeviceErrors, GpuTransportsFallBackToHostCopiesOnTheHostAndSaySo) {
 
 // Every transfer is counted once: bytes are the particles received times their size, and a
 // run without balancing migrates only particles that crossed a slab boundary.
+// Overlapped, the boundary slices travel whole, and the exchange a step settles (the first
+// step has none: the constructor exchanged) was issued by the step before.
 TEST(MultiDeviceErrors, ExchangeCountersAddUp) {
-    SolverOptions o;
-    o.subdomains = 3;
-    Simulation sim(test::small_dambreak("0.04"), o);
-    EXPECT_EQ(sim.transport_name(), "host");
-    for (int k = 0; k < 20; ++k) {
-        const StepRecord& r = sim.step();
-        EXPECT_GT(r.exchange.ghosts_sent, 0u);
-        EXPECT_EQ(r.exchange.bytes,
-                  (r.exchange.ghosts_sent + r.exchange.particles_migrated) * exchanged_bytes_per_particle);
+    for (bool overlap : {false, true}) {
+        SolverOptions o;
+        o.subdomains = 3;
+        o.overlap = overlap;
+        Simulation sim(test::small_dambreak("0.04"), o);
+        EXPECT_EQ(sim.transport_name(), "host");
+        for (int k = 0; k < 20; ++k) {
+            const StepRecord& r = sim.step();
+            if (overlap && k == 0) {
+                EXPECT_EQ(r.exchange.bytes, 0u);
+                continue;
+            }
+            EXPECT_GT(r.exchange.ghosts_sent, 0u) << "overlap " << overlap;
+            EXPECT_EQ(r.exchange.bytes,
+                      (r.exchange.ghosts_sent + r.exchange.particles_migrated) * exchanged_bytes_per_particle);
+        }
     }
 }
 

@@ -4,7 +4,8 @@
 # `make reference` (tools/reference.py) now runs single, accuracy and multi, resumably, into
 # results/reference/<gpu>[-xN]/; this script keeps the force loop's before/after (forceloop).
 #   single: benchmarks against DualSPHysics, the CUDA-vs-host test, fig4, fig3, cll-vs-vl
-#   multi:  the multi-gpu experiment (figures 5 to 9) and fig10 (transports); needs 2 GPUs
+#   multi:  the multi-gpu experiment (figures 5 to 9), fig10 (with and without the overlap of
+#           section 5.3, 1 to 4 GPUs: run it on 4) and the transports; needs 2 GPUs
 #   forceloop: the force loop's before/after (issue 12): the CUDA force tests, the
 #           benchmark cases with sphbench and with $BASE (an older build, when on PATH),
 #           alternating (and the commands named in $EXTRA_BINS), Nsight Compute on the force kernels, and DualSPHysics beside them
@@ -99,7 +100,7 @@ multi)
   ok=$?
   grep -E 'cuda |OK|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_vs_host.txt"
   [ $ok -eq 0 ] || { echo "reference-runs: the CUDA tests failed; not running the experiment"; exit 1; }
-  for spec in ${SPECS:-multi-gpu fig10}; do
+  for spec in ${SPECS:-multi-gpu fig10 transports}; do
     sphbench run experiments/$spec.toml --backend cuda --out "$out" --force --quiet
   done
   ;;

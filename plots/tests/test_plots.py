@@ -315,8 +315,47 @@ def test_shared_gpus_get_no_speedup(tmp):
     assert "S_2" not in p.stdout and "S_4" not in p.stdout, p.stdout
 
 
+# fig10: (scene, devices, overlap) -> mean wall ms per step; 2 GPUs in GPU_META, so 4 devices share.
+F10 = {("armadillo", 1, True): 12.0, ("armadillo", 1, False): 12.0, ("armadillo", 2, True): 6.5,
+       ("armadillo", 2, False): 7.5, ("armadillo", 4, True): 4.0, ("armadillo", 4, False): 4.5,
+       ("bunny", 1, True): 30.0, ("bunny", 1, False): 34.0, ("bunny", 2, True): 16.0, ("bunny", 2, False): 16.0}
+
+
+def make_fig10(folder):
+    rows = []
+    folder.mkdir(parents=True, exist_ok=True)
+    cols = STEP_COLS + ["wall_ms"]
+    for (scene, n, overlap), wall in F10.items():
+        run_id = f"{scene}_d{n}_{'on' if overlap else 'off'}"
+        steps = [[k, k * 1e-4, 1e-4, 900, 100, 0, 1, 1, 990, 1010, 1, 4, 1, 0.1, 0.2, 0.1, 0, 5, 5, 6, n, 0, 5, 50,
+                  5000, ";".join(["5"] * n), ";".join(["500"] * n), wall + (0.5 if k % 2 else -0.5)]
+                 for k in range(1, MG_STEPS + 1)]
+        write_csv(folder / f"{run_id}_steps.csv", GPU_META, cols, steps)
+        rows.append(run_row(run_id, scene, devices=n, balancer="threshold", overlap=str(overlap).lower(),
+                            steps_file=f"{run_id}_steps.csv"))
+    write_runs(folder, GPU_META, rows)
+
+
+def test_fig10_with_and_without_the_optimisation(tmp):
+    make_fig10(tmp / "fig10")
+    p = run_script("fig10", "--results", tmp / "fig10", "--out", tmp / "out")
+    check_outputs(p, tmp / "out", "fig10")
+    on = line_of(p.stdout, "armadillo 1034K, 2 GPUs, with:")
+    close(re.search(r"speedup ([0-9.]+)", on).group(1), 12.0 / 6.5, "armadillo S_2 with")
+    close(re.search(r"gain over without ([-+0-9.]+)%", on).group(1), (7.5 / 6.5 - 1) * 100, "gain", 0.06)
+    off = line_of(p.stdout, "armadillo 1034K, 2 GPUs, without:")
+    close(re.search(r"speedup ([0-9.]+)", off).group(1), 12.0 / 7.5, "armadillo S_2 without")
+    # W_1 pools both one-device runs.
+    bunny = line_of(p.stdout, "bunny 3049K, 2 GPUs, with:")
+    close(re.search(r"speedup ([0-9.]+)", bunny).group(1), 32.0 / 16.0, "bunny S_2")
+    assert "+0.0%" in bunny, bunny
+    shared = line_of(p.stdout, "armadillo 1034K, 4 GPUs, with:")
+    assert "4 subdomains on 2 GPUs" in shared and not re.search(r"speedup [0-9]", shared), shared
+
+
 def test_new_scripts_fail_in_one_sentence(tmp):
-    for name, target in (("fig3", "fig3"), ("table_vl", "cll-vs-vl"), ("fig6", "multi-gpu"), ("fig8", "multi-gpu")):
+    for name, target in (("fig3", "fig3"), ("table_vl", "cll-vs-vl"), ("fig6", "multi-gpu"), ("fig8", "multi-gpu"),
+                         ("fig10", "fig10"), ("transports", "transports")):
         p = run_script(name, "--results", tmp / "nowhere", "--out", tmp / "o")
         err = p.stderr.strip()
         assert p.returncode != 0 and "Traceback" not in err and len(err.splitlines()) == 1, err

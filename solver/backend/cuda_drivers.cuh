@@ -34,6 +34,24 @@ void build_fluid_begin(const real4* sorted_velrho, const std::uint32_t* sorted_c
 // Marks the particles of in-domain cells outside [begin, end) as ghosts (particle.hpp).
 void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, std::uint32_t begin, std::uint32_t end,
                  std::uint32_t out_of_domain, cudaStream_t s);
+// After keeping the particles [lo, hi) of a sorted range (moved to the front): the cell
+// ranges shifted down by lo, cells outside them empty (cell_start and fluid_begin).
+void clamp_cell_starts(std::uint32_t* cell_start, std::uint32_t* fluid_begin, std::uint32_t cell_count,
+                       std::uint32_t lo, std::uint32_t hi, cudaStream_t s);
+// The five arrays of particles an exchange carries.
+struct CarriedArrays {
+    real4* pos;
+    real4* velrho;
+    real4* velrho_prev;
+    std::uint32_t* cell;
+    std::uint32_t* id;
+};
+// Appends the m particles of `from` whose cell lies in [begin, end) to `to` at index n, in
+// their order; returns how many, and how many of them lie in [owned_begin, owned_end)
+// (synchronises the stream).
+ReceivedCount append_received_in(CarriedArrays from, std::uint32_t m, CarriedArrays to, std::uint32_t n,
+                                 std::uint32_t begin, std::uint32_t end, std::uint32_t owned_begin,
+                                 std::uint32_t owned_end, cudaStream_t s);
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s);
 // Particle shifting's concentration gradient (cell search only).

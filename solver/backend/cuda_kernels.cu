@@ -4,9 +4,12 @@
 #include <cub/block/block_reduce.cuh>
 #include <cub/device/device_reduce.cuh>
 #include <thrust/binary_search.h>
+#include <thrust/copy.h>
+#include <thrust/count.h>
 #include <thrust/execution_policy.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
+#include <thrust/iterator/zip_iterator.h>
 
 
 #include "backend/cuda_drivers.cuh"
@@ -65,6 +68,20 @@ __global__ void fluid_begin_mark_kernel(const real4* velrho, const std::uint32_t
     if (c >= cell_count || is_boundary(velrho[k])) return;
     if (k == 0 || cell[k - 1] != c || is_boundary(velrho[k - 1])) fluid_begin[c] = k;
 }
+
+__global__ void clamp_cell_starts_kernel(std::uint32_t* cell_start, std::uint32_t* fluid_begin,
+                                         std::uint32_t cell_count, std::uint32_t lo, std::uint32_t hi) {
+    const std::uint32_t c = blockIdx.x * blockDim.x + threadIdx.x;
+    if (c > cell_count) return;
+    auto clamp = [&](std::uint32_t v) { return (v < lo ? lo : v > hi ? hi : v) - lo; };
+    cell_start[c] = clamp(cell_start[c]);
+    fluid_begin[c] = clamp(fluid_begin[c]);
+}
+
+struct CellIn {
+    std::uint32_t begin, end;
+    __host__ __device__ bool operator()(std::uint32_t c) const { return c >= begin && c < end; }
+};
 
 // The force loop: one thread per particle visiting its stencil (particle_force), walls only
 // the fluid of each cell, each range in chunks of 32 candidates tested first and their
@@ -200,6 +217,30 @@ void mark_ghosts(const std::uint32_t* cell, std::uint32_t* id, std::uint32_t n, 
     if (n == 0) return;
     mark_ghosts_kernel<<<blocks_for(n), block_size, 0, s>>>(cell, id, n, begin, end, out_of_domain);
     SPH_CUDA_CHECK_LAUNCH();
+}
+
+void clamp_cell_starts(std::uint32_t* cell_start, std::uint32_t* fluid_begin, std::uint32_t cell_count,
+                       std::uint32_t lo, std::uint32_t hi, cudaStream_t s) {
+    clamp_cell_starts_kernel<<<blocks_for(cell_count + 1), block_size, 0, s>>>(cell_start, fluid_begin, cell_count, lo, hi);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+ReceivedCount append_received_in(CarriedArrays from, std::uint32_t m, CarriedArrays to, std::uint32_t n,
+                                 std::uint32_t begin, std::uint32_t end, std::uint32_t owned_begin,
+                                 std::uint32_t owned_end, cudaStream_t s) {
+    if (m == 0) return {};
+    auto zip = [](const CarriedArrays& a, std::uint32_t at) {
+        return thrust::make_zip_iterator(thrust::make_tuple(a.pos + at, a.velrho + at, a.velrho_prev + at, a.cell + at,
+                                                            a.id + at));
+    };
+    const auto policy = thrust::cuda::par.on(s);
+    const auto last = thrust::copy_if(policy, zip(from, 0), zip(from, m), from.cell, zip(to, n), CellIn{begin, end});
+    SPH_CUDA_CHECK_LAUNCH();
+    ReceivedCount c;
+    c.kept = std::size_t(last - zip(to, n));
+    c.owned = std::size_t(thrust::count_if(policy, from.cell, from.cell + m, CellIn{owned_begin, owned_end}));
+    SPH_CUDA_CHECK_LAUNCH();
+    return c;
 }
 
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,

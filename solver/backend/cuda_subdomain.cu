@@ -127,6 +127,7 @@ public:
         use_device();
         const auto r = cell_starts({begin, end, cfg_.grid.cell_count()});
         const std::uint32_t lo = r[0], kept = r[1] - r[0], out_lo = r[2], out_n = n_ - r[2];
+        if (lo == 0 && r[1] == out_lo) return;  // nothing to drop
         // Two ranges into the spare buffers, then swap: the ranges may overlap their targets.
         auto move = [&](auto& buf, auto& spare) {
             using T = std::decay_t<decltype(*buf.data())>;
@@ -149,10 +150,10 @@ public:
             SPH_CUDA_CHECK(cudaMemcpyAsync(id_spare + kept, id_.data() + out_lo, out_n * 4, cudaMemcpyDeviceToDevice, stream_));
         }
         n_ = kept + out_n;
-        // cell_start keeps the last sort's values until the next sort, as on the host: the
-        // balancer reads its per-slice counts in between, and no kernel runs there. (Writing
-        // [0, kept) at begin and end, as this did for the kick-drift-kick scheme's kick, made
-        // the first and last slices' counts wrong by the dropped ghosts.)
+        // The cell ranges follow what was kept (shifted down by lo, the other cells empty), as
+        // on the host: the balancer reads per-slice counts from them, and an exchange's
+        // set_owned_cells the owned range.
+        gpu::clamp_cell_starts(cell_start_.data(), fluid_begin_.data(), cfg_.grid.cell_count(), lo, r[1], stream_);
         if (n_) {
             SPH_CUDA_CHECK(cudaMemcpyAsync(cell_.data(), cell_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
             SPH_CUDA_CHECK(cudaMemcpyAsync(id_.data(), id_spare, n_ * 4, cudaMemcpyDeviceToDevice, stream_));
@@ -195,6 +196,22 @@ public:
         copy(cell_.data(), recv_cell_.data());
         copy(id_.data(), recv_id_.data());
         n_ += std::uint32_t(m);
+    }
+    ReceivedCount accept_received_in(std::uint32_t begin, std::uint32_t end, std::uint32_t owned_begin,
+                                     std::uint32_t owned_end) override {
+        use_device();
+        const std::size_t m = received_;
+        received_ = 0;
+        // At most m more; the exact count comes back from the device.
+        if (n_ + m > pos_.size())
+            throw RunError("subdomain on " + name_ + " would hold " + std::to_string(n_ + m) +
+                           " particles, more than the " + std::to_string(pos_.size()) + " it was sized for");
+        const ReceivedCount c = gpu::append_received_in(
+            {recv_pos_.data(), recv_velrho_.data(), recv_velrho_prev_.data(), recv_cell_.data(), recv_id_.data()},
+            std::uint32_t(m), {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), id_.data()}, n_, begin,
+            end, owned_begin, owned_end, stream_);
+        n_ += std::uint32_t(c.kept);
+        return c;
     }
     void synchronize() override {
         use_device();
@@ -274,6 +291,16 @@ public:
         use_device();
         gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), force_.data(),
                      grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_, active_range(), n_, stream_);
+    }
+
+    void advance_cells(const TimeStep& step, std::uint32_t first_cell, std::uint32_t end_cell) override {
+        use_device();
+        const std::uint32_t f = std::clamp(first_cell, owned_[0], owned_[1]);
+        const std::uint32_t e = std::clamp(end_cell, f, owned_[1]);
+        if (e == f) return;
+        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), force_.data(),
+                     grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_,
+                     {cell_start_.data() + f, cell_start_.data() + e}, n_, stream_);
     }
 
     StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) override {

@@ -44,8 +44,10 @@ public:
             a_.id[i] = mark_ghost(a_.id[i], a_.cell[i], begin, end, outside);
     }
     void keep_only_cells(std::uint32_t begin, std::uint32_t end) override {
+        const std::uint32_t ncells = cfg_.grid.cell_count();
         const std::size_t lo = cell_start_[begin], hi = cell_start_[end];
-        const std::size_t out_lo = cell_start_[cfg_.grid.cell_count()], n = a_.size();
+        const std::size_t out_lo = cell_start_[ncells], n = a_.size();
+        if (lo == 0 && hi == out_lo) return;  // nothing to drop
         auto keep = [&](auto& v) {
             using V = std::decay_t<decltype(v)>;
             V kept(v.begin() + lo, v.begin() + hi);
@@ -58,7 +60,10 @@ public:
         keep(a_.cell);
         keep(a_.id);
         a_.force.resize(a_.size());  // forces are recomputed before they are read
-        update_owned_range_after_keep(hi - lo);
+        // What was kept is where it was, shifted down by lo; cells outside become empty.
+        for (std::uint32_t c = 0; c <= ncells; ++c)
+            cell_start_[c] = std::uint32_t(std::clamp<std::size_t>(cell_start_[c], lo, hi) - lo);
+        update_owned_range();
     }
     ParticleSpan particles(std::size_t first, std::size_t count) override {
         return {a_.pos.data() + first, a_.velrho.data() + first, a_.velrho_prev.data() + first,
@@ -78,6 +83,24 @@ public:
         a_.id.insert(a_.id.end(), received_.id.begin(), received_.id.end());
         a_.force.resize(a_.size());
         received_ = {};
+    }
+    ReceivedCount accept_received_in(std::uint32_t begin, std::uint32_t end, std::uint32_t owned_begin,
+                                     std::uint32_t owned_end) override {
+        ReceivedCount count;
+        for (std::size_t i = 0; i < received_.size(); ++i) {
+            const std::uint32_t c = received_.cell[i];
+            if (c < begin || c >= end) continue;
+            a_.pos.push_back(received_.pos[i]);
+            a_.velrho.push_back(received_.velrho[i]);
+            a_.velrho_prev.push_back(received_.velrho_prev[i]);
+            a_.cell.push_back(c);
+            a_.id.push_back(received_.id[i]);
+            ++count.kept;
+            count.owned += c >= owned_begin && c < owned_end;
+        }
+        a_.force.resize(a_.size());
+        received_ = {};
+        return count;
     }
     void synchronize() override {}
     std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) override {
@@ -174,8 +197,12 @@ public:
         return (list_index_.size() + list_count_.size()) * sizeof(std::uint32_t);
     }
 
-    void advance(const TimeStep& step) override {
-        cfg_.integrate_boundary ? advance_loop<true>(step) : advance_loop<false>(step);
+    void advance(const TimeStep& step) override { advance_range(step, owned_lo_, owned_hi_); }
+    void advance_cells(const TimeStep& step, std::uint32_t first_cell, std::uint32_t end_cell) override {
+        const std::uint32_t ncells = cfg_.grid.cell_count();
+        const std::size_t lo = std::max<std::size_t>(owned_lo_, cell_start_[std::min(first_cell, ncells)]);
+        const std::size_t hi = std::min<std::size_t>(owned_hi_, cell_start_[std::min(end_cell, ncells)]);
+        if (hi > lo) advance_range(step, lo, hi);
     }
 
     StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) override {
@@ -219,19 +246,17 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
+    void advance_range(const TimeStep& step, std::size_t first, std::size_t end) {
+        cfg_.integrate_boundary ? advance_loop<true>(step, first, end) : advance_loop<false>(step, first, end);
+    }
     template <bool IntegrateBoundary>
-    void advance_loop(const TimeStep& step) {
-        const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
+    void advance_loop(const TimeStep& step, std::size_t first, std::size_t end) {
+        const std::ptrdiff_t lo = std::ptrdiff_t(first), n = std::ptrdiff_t(end);
 #pragma omp parallel for schedule(static)
         for (std::ptrdiff_t i = lo; i < n; ++i)
             particle_advance<IntegrateBoundary>(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(),
                                                 a_.cell.data(), a_.force.data(), gradient(), step, cfg_.grid,
                                                 cfg_.params);
-    }
-    // After keep_only_cells the owned particles, still in cell order, start at 0.
-    void update_owned_range_after_keep(std::size_t kept) {
-        owned_lo_ = 0;
-        owned_hi_ = kept;
     }
     void update_owned_range() {
         const std::uint32_t ncells = cfg_.grid.cell_count();

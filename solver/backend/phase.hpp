@@ -17,6 +17,9 @@ constexpr const char* phase_name(Phase p) { return phase_names[std::size_t(p)]; 
 
 // In multi-subdomain runs, "exchange" is the one exchange per step (migration and ghosts
 // together, with its sort) and "migrate" the drop of stale ghosts at the start of the step.
+// With the overlap of paper section 5.3, "exchange" is the host's time to issue the exchange
+// after the inner update is queued (on the CUDA backend the copies run on the transport's
+// streams, under that update), and its sort is the next step's "neighbour_list".
 using PhaseTimes = std::array<double, phase_count>;  // milliseconds
 
 // The paper's "update of physical quantities": forces plus integration.

@@ -40,6 +40,11 @@ struct ParticleSpan {
     void* stream = nullptr;
 };
 
+// What accept_received_in kept of a receive area.
+struct ReceivedCount {
+    std::size_t kept = 0, owned = 0;
+};
+
 struct SubdomainConfig {
     PhysicsParams params;
     GridView grid;
@@ -81,6 +86,11 @@ public:
     // Phase integrate: one step of the owned particles from the forces just computed; it
     // also refreshes P / rho^2, so advance(euler_step(0)) primes a freshly uploaded state.
     virtual void advance(const TimeStep& step) = 0;
+    // The same update for the owned particles of the cells [first_cell, end_cell) only (as
+    // the last sort placed them): a decomposition updates the cells near its slab edges
+    // first and sends them while the rest is updated (paper section 5.3). Ranges that
+    // together cover the owned cells once give bitwise what advance(step) gives.
+    virtual void advance_cells(const TimeStep& step, std::uint32_t first_cell, std::uint32_t end_cell) = 0;
     // Phase diagnostics: reductions over the state advance(step) will produce.
     virtual StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) = 0;
     // Not timed: counts the neighbour search's work for the current sorted state.
@@ -91,7 +101,9 @@ public:
     // the rest are ghosts of neighbours or particles that left the domain. Setting the owned
     // cells also marks every particle of another in-domain cell as a ghost (ghost_id_flag).
     virtual void set_owned_cells(std::uint32_t begin, std::uint32_t end) = 0;
-    // Drops every particle outside [begin, end) except those that left the domain.
+    // Drops every particle outside [begin, end) except those that left the domain. The cell
+    // ranges of the last sort are kept valid for what is left (cells outside [begin, end)
+    // become empty), so the per-slice counts, the owned range and set_owned_cells still hold.
     virtual void keep_only_cells(std::uint32_t begin, std::uint32_t end) = 0;
     // cell_start at the given cells (counts per slice are differences of these).
     virtual std::vector<std::uint32_t> cell_starts(const std::vector<std::uint32_t>& cells) = 0;
@@ -102,6 +114,11 @@ public:
     virtual ParticleSpan particles(std::size_t first, std::size_t count) = 0;
     virtual ParticleSpan receive_area(std::size_t count) = 0;
     virtual void accept_received() = 0;  // unsorted until the next sort
+    // Appends only the received particles whose cell lies in [begin, end) (the rest, sent
+    // whole with the boundary slices they were in, are not needed here, or left the domain);
+    // returns how many were kept and how many of those lie in [owned_begin, owned_end).
+    virtual ReceivedCount accept_received_in(std::uint32_t begin, std::uint32_t end, std::uint32_t owned_begin,
+                                             std::uint32_t owned_end) = 0;
     virtual void synchronize() = 0;      // waits for the work queued on this subdomain
 
     // Owned particles inside the domain after the last sort.

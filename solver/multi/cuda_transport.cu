@@ -47,6 +47,89 @@ private:
     std::vector<int> devices_;
 };
 
+// Paper section 5.3: per subdomain, a copy stream on its GPU, an event marking its boundary
+// area updated (recorded on its compute stream before the inner update is queued) and one
+// marking the copies it took part in done. Copies wait for the first; the subdomains' later
+// work waits for the second; the host waits for neither.
+class CopyStreams {
+public:
+    explicit CopyStreams(const std::vector<std::unique_ptr<Subdomain>>& subs) {
+        for (auto& s : subs) {
+            SPH_CUDA_CHECK(cudaSetDevice(s->device()));
+            Lane l{};
+            l.device = s->device();
+            SPH_CUDA_CHECK(cudaStreamCreateWithFlags(&l.copy, cudaStreamNonBlocking));
+            SPH_CUDA_CHECK(cudaEventCreateWithFlags(&l.ready, cudaEventDisableTiming));
+            SPH_CUDA_CHECK(cudaEventCreate(&l.start));  // start and done time the copies
+            SPH_CUDA_CHECK(cudaEventCreate(&l.done));
+            lanes_.push_back(l);
+        }
+    }
+    ~CopyStreams() {
+        for (Lane& l : lanes_) {
+            cudaSetDevice(l.device);  // unchecked: destructors must not throw
+            cudaEventDestroy(l.ready);
+            cudaEventDestroy(l.start);
+            cudaEventDestroy(l.done);
+            cudaStreamDestroy(l.copy);
+        }
+    }
+    CopyStreams(const CopyStreams&) = delete;
+    CopyStreams& operator=(const CopyStreams&) = delete;
+
+    cudaStream_t copy(int d) const { return lanes_[d].copy; }
+    void mark_ready(int d, cudaStream_t compute) {
+        SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
+        SPH_CUDA_CHECK(cudaEventRecord(lanes_[d].ready, compute));
+    }
+    // d's copy stream waits until subdomain `other`'s boundary area is updated.
+    void copy_after_ready(int d, int other) {
+        SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
+        SPH_CUDA_CHECK(cudaStreamWaitEvent(lanes_[d].copy, lanes_[other].ready, 0));
+    }
+    // After d's copy stream has been ordered after the ready marks: its copies start here.
+    void mark_start(int d) {
+        SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
+        SPH_CUDA_CHECK(cudaEventRecord(lanes_[d].start, lanes_[d].copy));
+    }
+    void mark_done(int d) {
+        SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
+        SPH_CUDA_CHECK(cudaEventRecord(lanes_[d].done, lanes_[d].copy));
+        timed_.insert(d);
+    }
+    // The longest of the copy streams marked since the last call, start to done (waits for them).
+    double elapsed_ms() {
+        double longest = timed_.empty() ? -1 : 0;
+        for (int d : timed_) {
+            SPH_CUDA_CHECK(cudaSetDevice(lanes_[d].device));
+            SPH_CUDA_CHECK(cudaEventSynchronize(lanes_[d].done));
+            float ms = 0;
+            SPH_CUDA_CHECK(cudaEventElapsedTime(&ms, lanes_[d].start, lanes_[d].done));
+            longest = std::max(longest, double(ms));
+        }
+        timed_.clear();
+        return longest;
+    }
+    // For each pair (from, to) of the delivery, the compute streams of both wait for the
+    // copies of from's copy stream (its sends; with NCCL a pair (d, d) stands for d's receives).
+    void finish(const std::vector<std::unique_ptr<Subdomain>>& subs, const std::set<std::pair<int, int>>& pairs) {
+        for (const auto& [from, to] : pairs)
+            for (int waiter : {from, to}) {
+                SPH_CUDA_CHECK(cudaSetDevice(lanes_[waiter].device));
+                SPH_CUDA_CHECK(cudaStreamWaitEvent(static_cast<cudaStream_t>(subs[waiter]->stream()), lanes_[from].done, 0));
+            }
+    }
+
+private:
+    struct Lane {
+        int device;
+        cudaStream_t copy;
+        cudaEvent_t ready, start, done;
+    };
+    std::vector<Lane> lanes_;
+    std::set<int> timed_;
+};
+
 // The pairs (source, destination) of an exchange, each once.
 std::set<std::pair<int, int>> pairs_of(const std::vector<ParticleTransfer>& transfers) {
     std::set<std::pair<int, int>> p;
@@ -58,39 +141,98 @@ std::set<std::pair<int, int>> pairs_of(const std::vector<ParticleTransfer>& tran
 // PCIe with peer access; a local copy where both subdomains share a GPU).
 class PeerTransport final : public ParticleTransport {
 public:
-    explicit PeerTransport(const std::vector<std::unique_ptr<Subdomain>>& subs) : events_(subs) {}
+    explicit PeerTransport(const std::vector<std::unique_ptr<Subdomain>>& subs) : events_(subs), lanes_(subs) {}
     std::string name() const override { return "peer"; }
+    void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int d) override {
+        lanes_.mark_ready(d, static_cast<cudaStream_t>(subs[d]->stream()));
+    }
+    // Each source copies on its own copy stream, after its boundary update and the
+    // destination's (which comes after the destination last read its receive area).
+    void begin_delivery(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
+                        const std::vector<ParticleSpan>& areas) override {
+        pending_ = pairs_of(transfers);
+        std::set<int> sources;
+        for (const auto& [from, to] : pending_) {
+            lanes_.copy_after_ready(from, to);
+            if (sources.insert(from).second) lanes_.copy_after_ready(from, from);
+        }
+        for (int from : sources) lanes_.mark_start(from);
+        for (const ParticleTransfer& t : transfers) copy_transfer(subs, t, areas[t.to], lanes_.copy(t.from));
+        for (int from : sources) lanes_.mark_done(from);
+    }
+    void finish_delivery(std::vector<std::unique_ptr<Subdomain>>& subs) override {
+        lanes_.finish(subs, pending_);
+        pending_.clear();
+    }
+    double last_delivery_ms() override { return lanes_.elapsed_ms(); }
     void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
                  const std::vector<ParticleSpan>& areas) override {
         const auto pairs = pairs_of(transfers);
         // The source writes into the destination's receive area: wait until it is free.
         for (const auto& [from, to] : pairs) events_.order_after(to, stream_of(areas[to]), static_cast<cudaStream_t>(subs[from]->stream()));
-        for (const ParticleTransfer& t : transfers) {
-            const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
-            const ParticleSpan& dst = areas[t.to];
-            SPH_CUDA_CHECK(cudaSetDevice(src.device));
-            auto copy = [&](auto* to, const auto* from) {
-                SPH_CUDA_CHECK(cudaMemcpyPeerAsync(to + t.offset, dst.device, from, src.device, t.count * sizeof(*from),
-                                                   stream_of(src)));
-            };
-            copy(dst.pos, src.pos);
-            copy(dst.velrho, src.velrho);
-            copy(dst.velrho_prev, src.velrho_prev);
-            copy(dst.cell, src.cell);
-            copy(dst.id, src.id);
-        }
+        for (const ParticleTransfer& t : transfers)
+            copy_transfer(subs, t, areas[t.to], static_cast<cudaStream_t>(subs[t.from]->stream()));
         // The destination appends the received particles only after they have arrived.
         for (const auto& [from, to] : pairs) events_.order_after(from, static_cast<cudaStream_t>(subs[from]->stream()), stream_of(areas[to]));
     }
 
 private:
+    static void copy_transfer(std::vector<std::unique_ptr<Subdomain>>& subs, const ParticleTransfer& t,
+                              const ParticleSpan& dst, cudaStream_t stream) {
+        const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+        SPH_CUDA_CHECK(cudaSetDevice(src.device));
+        auto copy = [&](auto* to, const auto* from) {
+            SPH_CUDA_CHECK(
+                cudaMemcpyPeerAsync(to + t.offset, dst.device, from, src.device, t.count * sizeof(*from), stream));
+        };
+        copy(dst.pos, src.pos);
+        copy(dst.velrho, src.velrho);
+        copy(dst.velrho_prev, src.velrho_prev);
+        copy(dst.cell, src.cell);
+        copy(dst.id, src.id);
+    }
+
     StreamEvents events_;
+    CopyStreams lanes_;
+    std::set<std::pair<int, int>> pending_;  // pairs of the delivery begun and not finished
 };
 
 // Through page-locked host memory: for GPUs without peer access to each other.
 class StagedTransport final : public ParticleTransport {
 public:
+    explicit StagedTransport(const std::vector<std::unique_ptr<Subdomain>>& subs) : lanes_(subs) {}
     std::string name() const override { return "staged"; }
+    void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int d) override {
+        lanes_.mark_ready(d, static_cast<cudaStream_t>(subs[d]->stream()));
+    }
+    // On the copy streams, after the boundary updates: down, a host wait for the copy streams
+    // only (the inner updates are already queued and go on), up, and a host wait again (the
+    // staging memory is reused). Everything has arrived when this returns.
+    void begin_delivery(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
+                        const std::vector<ParticleSpan>& areas) override {
+        std::size_t total = 0;
+        for (const ParticleTransfer& t : transfers) total += t.count;
+        if (total == 0) return;
+        std::set<int> involved;
+        for (const ParticleTransfer& t : transfers) involved.insert({t.from, t.to});
+        for (int d : involved) lanes_.copy_after_ready(d, d);
+        const PinnedStaging::Layout host = staging_.particles(total);
+        std::size_t at = 0;
+        for (const ParticleTransfer& t : transfers) {
+            const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+            SPH_CUDA_CHECK(cudaSetDevice(src.device));
+            stage(t, src, host, at, true, lanes_.copy(t.from));
+            at += t.count;
+        }
+        wait(involved);
+        at = 0;
+        for (const ParticleTransfer& t : transfers) {
+            SPH_CUDA_CHECK(cudaSetDevice(areas[t.to].device));
+            stage(t, areas[t.to], host, at, false, lanes_.copy(t.to));
+            at += t.count;
+        }
+        wait(involved);
+    }
     void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
                  const std::vector<ParticleSpan>& areas) override {
         std::size_t total = 0;
@@ -131,14 +273,33 @@ public:
     }
 
 private:
+    // One transfer's five arrays between device span `dev` and the staging memory at `at`.
+    static void stage(const ParticleTransfer& t, const ParticleSpan& dev, const PinnedStaging::Layout& host,
+                      std::size_t at, bool down, cudaStream_t stream) {
+        auto pass = [&](auto* d, auto* h) {
+            const std::size_t bytes = t.count * sizeof(*d);
+            if (down) SPH_CUDA_CHECK(cudaMemcpyAsync(h + at, d, bytes, cudaMemcpyDeviceToHost, stream));
+            else SPH_CUDA_CHECK(cudaMemcpyAsync(d + t.offset, h + at, bytes, cudaMemcpyHostToDevice, stream));
+        };
+        pass(dev.pos, host.pos);
+        pass(dev.velrho, host.velrho);
+        pass(dev.velrho_prev, host.velrho_prev);
+        pass(dev.cell, host.cell);
+        pass(dev.id, host.id);
+    }
+    void wait(const std::set<int>& lanes) {
+        for (int d : lanes) SPH_CUDA_CHECK(cudaStreamSynchronize(lanes_.copy(d)));
+    }
+
     PinnedStaging staging_;
+    CopyStreams lanes_;
 };
 
 // NCCL point-to-point: one rank per subdomain, every send and receive in one group, each on
 // its subdomain's stream (so the ordering the interface promises comes from NCCL itself).
 class NcclTransport final : public ParticleTransport {
 public:
-    explicit NcclTransport(const std::vector<std::unique_ptr<Subdomain>>& subs) {
+    explicit NcclTransport(const std::vector<std::unique_ptr<Subdomain>>& subs) : lanes_(subs) {
         std::vector<int> devices;
         for (auto& s : subs) devices.push_back(s->device());
         if (std::set<int>(devices.begin(), devices.end()).size() != devices.size())
@@ -147,28 +308,59 @@ public:
         comms_ = NcclCommunicators(devices);
     }
     std::string name() const override { return "nccl"; }
+    void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int d) override {
+        lanes_.mark_ready(d, static_cast<cudaStream_t>(subs[d]->stream()));
+    }
+    // The same group of sends and receives, on the copy streams after the boundary updates.
+    void begin_delivery(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
+                        const std::vector<ParticleSpan>& areas) override {
+        pending_ = pairs_of(transfers);
+        std::set<int> involved;
+        for (const auto& [from, to] : pending_) involved.insert({from, to});
+        for (int d : involved) lanes_.copy_after_ready(d, d);
+        for (int d : involved) lanes_.mark_start(d);
+        comms_.begin_group();
+        for (const ParticleTransfer& t : transfers) pass(subs, t, areas[t.to], lanes_.copy(t.from), lanes_.copy(t.to));
+        comms_.end_group();
+        for (int d : involved) lanes_.mark_done(d);
+        // finish: a source's later work waits for its copy stream; a destination's for its own
+        // (which received), so order each after both.
+        for (int d : involved) pending_.insert({d, d});
+    }
+    void finish_delivery(std::vector<std::unique_ptr<Subdomain>>& subs) override {
+        lanes_.finish(subs, pending_);
+        pending_.clear();
+    }
+    double last_delivery_ms() override { return lanes_.elapsed_ms(); }
     void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
                  const std::vector<ParticleSpan>& areas) override {
         comms_.begin_group();
         for (const ParticleTransfer& t : transfers) {
             const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
-            const ParticleSpan& dst = areas[t.to];
-            auto pass = [&](auto* to, const auto* from) {
-                const std::size_t bytes = t.count * sizeof(*from);
-                comms_.send(t.from, from, bytes, t.to, stream_of(src));
-                comms_.receive(t.to, to + t.offset, bytes, t.from, stream_of(dst));
-            };
-            pass(dst.pos, src.pos);
-            pass(dst.velrho, src.velrho);
-            pass(dst.velrho_prev, src.velrho_prev);
-            pass(dst.cell, src.cell);
-            pass(dst.id, src.id);
+            pass(subs, t, areas[t.to], stream_of(src), stream_of(areas[t.to]));
         }
         comms_.end_group();  // a failure above leaves the group open; the run stops with it
     }
 
 private:
+    void pass(std::vector<std::unique_ptr<Subdomain>>& subs, const ParticleTransfer& t, const ParticleSpan& dst,
+              cudaStream_t send_stream, cudaStream_t receive_stream) {
+        const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+        auto one = [&](auto* to, const auto* from) {
+            const std::size_t bytes = t.count * sizeof(*from);
+            comms_.send(t.from, from, bytes, t.to, send_stream);
+            comms_.receive(t.to, to + t.offset, bytes, t.from, receive_stream);
+        };
+        one(dst.pos, src.pos);
+        one(dst.velrho, src.velrho);
+        one(dst.velrho_prev, src.velrho_prev);
+        one(dst.cell, src.cell);
+        one(dst.id, src.id);
+    }
+
     NcclCommunicators comms_;
+    CopyStreams lanes_;
+    std::set<std::pair<int, int>> pending_;
 };
 
 // Whether every two distinct GPUs of the run can reach each other; otherwise the first pair
@@ -204,14 +396,14 @@ std::unique_ptr<ParticleTransport> make_cuda_transport(TransportKind kind,
     for (auto& s : subs) devices.push_back(s->device());
     std::sort(devices.begin(), devices.end());
     devices.erase(std::unique(devices.begin(), devices.end()), devices.end());
-    if (kind == TransportKind::staged) return std::make_unique<StagedTransport>();
+    if (kind == TransportKind::staged) return std::make_unique<StagedTransport>(subs);
     if (kind == TransportKind::nccl) return std::make_unique<NcclTransport>(subs);
     const auto [a, b] = missing_peer_access(devices);
     if (a >= 0) {
         const std::string why = "GPU " + std::to_string(a) + " has no peer access to GPU " + std::to_string(b);
         if (kind == TransportKind::peer) throw InputError("the peer transport cannot be used: " + why + "; use --transport staged");
         note = why + ": particles between GPUs are staged through host memory";
-        return std::make_unique<StagedTransport>();
+        return std::make_unique<StagedTransport>(subs);
     }
     enable_peer_access(devices);
     return std::make_unique<PeerTransport>(subs);

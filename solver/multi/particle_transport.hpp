@@ -30,6 +30,29 @@ public:
     // rearranging their arrays.
     virtual void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
                          const std::vector<ParticleSpan>& receive_areas) = 0;
+
+    // The exchange of paper section 5.3, which runs under the subdomains' inner update:
+    // mark_ready(d) is called once subdomain d's boundary area is queued for update (what is
+    // queued after it, the inner update, is not waited for); begin_delivery, once every
+    // subdomain is marked, carries the transfers after the marks, on streams of the
+    // transport's own where it has them, without holding the subdomains' streams back;
+    // finish_delivery then orders each subdomain's later work after the delivery (no host
+    // wait). Host copies have nothing to overlap with on one thread: they copy in
+    // begin_delivery.
+    virtual void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int d) {
+        (void)subs;
+        (void)d;
+    }
+    virtual void begin_delivery(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                const std::vector<ParticleTransfer>& transfers,
+                                const std::vector<ParticleSpan>& receive_areas) {
+        deliver(subs, transfers, receive_areas);
+    }
+    virtual void finish_delivery(std::vector<std::unique_ptr<Subdomain>>& subs) { (void)subs; }
+    // How long the copies of the last delivery begun took where they ran (CUDA events on the
+    // transport's streams: the longest stream, from its first copy to its last), waiting for
+    // them; -1 where the host's wall time of begin_delivery covers them (host copies, staging).
+    virtual double last_delivery_ms() { return -1; }
 };
 
 enum class TransportKind { automatic, host, peer, staged, nccl };

@@ -1,6 +1,7 @@
 #include "multi/slab_domain.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace sph {
 namespace {
@@ -24,10 +25,10 @@ SlabDecomposition initial_slabs(const GridView& grid, int subdomains, int ghost_
 }  // namespace
 
 SlabDomain::SlabDomain(const GridView& grid, int subdomains, int ghost_slices, const std::string& balancer,
-                       const ParticleArrays& all, RankGroup& ranks)
+                       const ParticleArrays& all, RankGroup& ranks, bool overlap)
     : grid_(grid), slice_cells_(std::uint32_t(grid.ny) * std::uint32_t(grid.nz)), ghost_slices_(ghost_slices),
       ranks_(ranks), placement_(std::max(subdomains, 1), ranks.size()),
-      slabs_(initial_slabs(grid, subdomains, ghost_slices, all)), exchanged_for_(slabs_) {
+      slabs_(initial_slabs(grid, subdomains, ghost_slices, all)), exchanged_for_(slabs_), overlap_(overlap) {
     if (split()) balancer_ = make_balancer(balancer);
 }
 
@@ -66,24 +67,81 @@ void SlabDomain::drop_ghosts(int local, Subdomain& sub) const {
 int SlabDomain::rebalance(std::vector<std::unique_ptr<Subdomain>>& subs, long step,
                           const std::vector<double>& update_times) {
     if (!split() || int(update_times.size()) != subdomains()) return 0;  // no timed step yet
-    // Each rank counts the slices of its own slabs; the sum over ranks is exact (one nonzero
-    // contribution per slice).
-    std::vector<long long> mine(slabs_.slices(), 0);
+    read_slices(subs);  // the times were measured on these slabs: no scaling
+    return decide_balance(step, update_times, {});
+}
+
+void SlabDomain::read_slices(std::vector<std::unique_ptr<Subdomain>>& subs) {
+    if (!split()) return;
+    starts_.resize(subs.size());
     for (int d = 0; d < int(subs.size()); ++d) {
         const int g = first_local() + d;
         std::vector<std::uint32_t> cells;
         for (int x = slabs_.begin(g); x <= slabs_.end(g); ++x) cells.push_back(first_cell(x));
-        const std::vector<std::uint32_t> starts = subs[d]->cell_starts(cells);
+        starts_[d] = subs[d]->cell_starts(cells);
+    }
+}
+
+// Each rank counts the slices of its own slabs; the sum over ranks is exact (one nonzero
+// contribution per slice).
+std::vector<long long> SlabDomain::per_slice_counts() const {
+    std::vector<long long> mine(slabs_.slices(), 0);
+    for (int d = 0; d < int(starts_.size()); ++d) {
+        const int g = first_local() + d;
         for (int x = slabs_.begin(g); x < slabs_.end(g); ++x)
-            mine[x] = starts[x - slabs_.begin(g) + 1] - starts[x - slabs_.begin(g)];
+            mine[x] = starts_[d][x - slabs_.begin(g) + 1] - starts_[d][x - slabs_.begin(g)];
     }
-    std::vector<long long> per_slice = mine;
-    if (ranks_.size() > 1) {
-        const std::vector<long long> all = allgather_values(ranks_, mine);
-        std::fill(per_slice.begin(), per_slice.end(), 0);
-        for (std::size_t i = 0; i < all.size(); ++i) per_slice[i % per_slice.size()] += all[i];
-    }
-    return slabs_.apply_moves(balancer_->decide(slabs_, BalanceInput{update_times, per_slice, step}));
+    if (ranks_.size() == 1) return mine;
+    const std::vector<long long> all = allgather_values(ranks_, mine);
+    std::vector<long long> per_slice(mine.size(), 0);
+    for (std::size_t i = 0; i < all.size(); ++i) per_slice[i % per_slice.size()] += all[i];
+    return per_slice;
+}
+
+int SlabDomain::decide_balance(long step, const std::vector<double>& update_times,
+                               const std::vector<std::size_t>& measured_particles) {
+    if (!split() || int(update_times.size()) != subdomains()) return 0;  // no timed step yet
+    const std::vector<long long> per_slice = per_slice_counts();
+    std::vector<double> times = update_times;
+    if (int(measured_particles.size()) == subdomains())
+        for (int d = 0; d < subdomains(); ++d)
+            if (measured_particles[d] > 0)
+                times[d] *= double(slabs_.particles(d, per_slice)) / double(measured_particles[d]);
+    return slabs_.apply_moves(balancer_->decide(slabs_, BalanceInput{times, per_slice, step}));
+}
+
+void SlabDomain::set_reach(double max_displacement) {
+    // A particle at offset o in [0, cs) of its cell that moves by at most D crosses at most
+    // ceil(D / cs) slice faces; the margin covers the rounding of the update's float offsets.
+    const double slices = max_displacement / double(grid_.cell_size.x);
+    reach_ = slices >= 0 && slices < slabs_.slices() ? std::max(1, int(std::ceil(slices * 1.001 + 1e-3)))
+                                                     : slabs_.slices();  // also NaN: everything may move
+}
+
+std::array<SlabDomain::CellRange, 3> SlabDomain::update_order(int local) const {
+    const BoundaryArea a = boundary_area(exchanged_for_, slabs_, first_local() + local, ghost_slices_, reach_);
+    return {CellRange{first_cell(a.begin), first_cell(a.left_end)}, CellRange{first_cell(a.right_begin), first_cell(a.end)},
+            CellRange{first_cell(a.left_end), first_cell(a.right_begin)}};
+}
+
+void SlabDomain::begin_exchange(std::vector<std::unique_ptr<Subdomain>>& subs) {
+    sent_ = exchange_->begin_boundary_exchange(subs, exchanged_for_, slabs_, reach_, starts_, ranks_, placement_);
+    in_flight_ = true;
+    migrated_ = 0;
+}
+
+void SlabDomain::settle(int local, Subdomain& sub) {
+    migrated_ += exchange_->settle(sub, first_local() + local, slabs_);
+}
+
+ExchangeCounters SlabDomain::settled() {
+    ExchangeCounters c = sent_;
+    c.particles_migrated = 0;
+    for (unsigned long long m : allgather_values(ranks_, std::vector<unsigned long long>{migrated_})) c.particles_migrated += m;
+    c.ghosts_sent = c.ghosts_sent >= c.particles_migrated ? c.ghosts_sent - c.particles_migrated : 0;
+    exchanged_for_ = slabs_;
+    in_flight_ = false;
+    return c;
 }
 
 ExchangeCounters SlabDomain::exchange(std::vector<std::unique_ptr<Subdomain>>& subs) {

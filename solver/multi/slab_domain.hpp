@@ -6,6 +6,7 @@
 // so the time loop has one path. Subdomains may be spread over the ranks of an MPI job
 // (SubdomainPlacement); this rank's are passed in, and what balancing and statistics need
 // from the others comes by allgather, in subdomain order, so every rank decides the same.
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,8 +25,10 @@ class SlabDomain {
 public:
     // Splits the grid into `subdomains` slabs of about equal particle counts (min width:
     // ghost_slices). Throws InputError for more ranks than subdomains or a grid too narrow.
+    // overlap: paper section 5.3's order (below) instead of balance-then-exchange at the start
+    // of each step; the particles are the same either way, bitwise.
     SlabDomain(const GridView& grid, int subdomains, int ghost_slices, const std::string& balancer,
-               const ParticleArrays& all, RankGroup& ranks);
+               const ParticleArrays& all, RankGroup& ranks, bool overlap = false);
 
     int subdomains() const { return slabs_.devices(); }
     bool split() const { return slabs_.devices() > 1; }
@@ -47,6 +50,47 @@ public:
     // Migration and ghost refresh in one exchange, for the decomposition as it is now.
     ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs);
 
+    // Paper section 5.3, when overlapping: the step's one exchange is issued during the
+    // update and settled at the start of the next step.
+    //   start of step: if exchange_in_flight(): drop_ghosts, then settle(d) for each local
+    //     subdomain (appends what arrived, sorts), then settled();
+    //   read_slices() after that; the forces; decide_balance() (on the host while the forces
+    //     run: the repartition delayed into the update, taking effect with this step's
+    //     exchange); the statistics;
+    //   set_reach(), then per subdomain: advance the cells of update_order(d)[0] and [1] (the
+    //     boundary area), boundary_ready(d), advance [2] (the inner area); begin_exchange()
+    //     sends the boundary areas whole while the inner areas are updated; finish_exchange()
+    //     orders the next step's work after it.
+    bool overlapping() const { return split() && overlap_; }
+    bool exchange_in_flight() const { return in_flight_; }
+    void settle(int local, Subdomain& sub);
+    ExchangeCounters settled();  // the counters of the exchange just settled (every rank)
+    // cell_start at the owned slices of each local subdomain, after its sort.
+    void read_slices(std::vector<std::unique_ptr<Subdomain>>& subs);
+    // The move for the exchange at the end of this step, from the last step's update times
+    // (all subdomains, in order; empty before the first timed step). Those were measured with
+    // measured_particles owned per subdomain, on the slabs before this step's settle, which
+    // may have moved since: the balancer is given each time scaled to the particles owned
+    // now (the same time per particle), so that a move already made is not made again.
+    int decide_balance(long step, const std::vector<double>& update_times,
+                       const std::vector<std::size_t>& measured_particles);
+    // How far (metres along x) any particle can move in this step's update: how many slices
+    // the boundary areas must hold beyond the neighbours' extended slabs.
+    void set_reach(double max_displacement);
+    struct CellRange {
+        std::uint32_t begin = 0, end = 0;
+    };
+    // The left and right boundary cells, then the inner cells, of local subdomain `local`:
+    // disjoint, together its owned cells.
+    std::array<CellRange, 3> update_order(int local) const;
+    void boundary_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int local) { exchange_->mark_ready(subs, local); }
+    void begin_exchange(std::vector<std::unique_ptr<Subdomain>>& subs);
+    void finish_exchange(std::vector<std::unique_ptr<Subdomain>>& subs) { exchange_->finish_boundary_exchange(subs); }
+    int reach() const { return reach_; }
+    // The copies of the exchange begun last, timed where they ran (CUDA events on the
+    // transport's streams; waits for them); -1 where the host's time of begin_exchange is theirs.
+    double last_transfer_ms() { return exchange_ ? exchange_->last_delivery_ms() : -1; }
+
     const SlabDecomposition& decomposition() const { return slabs_; }
     // Within a rank the ParticleTransport's; between ranks the RankGroup's messages.
     std::string transport_name() const {
@@ -58,6 +102,7 @@ public:
 
 private:
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells_; }
+    std::vector<long long> per_slice_counts() const;  // from read_slices, summed over ranks
 
     GridView grid_;
     std::uint32_t slice_cells_;
@@ -69,6 +114,12 @@ private:
     std::unique_ptr<LoadBalancer> balancer_;
     std::unique_ptr<SlabExchange> exchange_;
     std::string transport_note_;
+    bool overlap_ = false;
+    bool in_flight_ = false;
+    int reach_ = 1;
+    std::vector<std::vector<std::uint32_t>> starts_;  // read_slices: per local subdomain
+    ExchangeCounters sent_;                            // of the exchange in flight
+    unsigned long long migrated_ = 0;                  // settled so far on this rank
 };
 
 }  // namespace sph

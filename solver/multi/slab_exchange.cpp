@@ -8,11 +8,6 @@
 namespace sph {
 namespace {
 
-// One entry of the transfer matrix: what subdomain g sends to k.
-struct TransferSize {
-    std::uint64_t first = 0, count = 0, owned = 0;  // owned: of count, particles k will own (migrating)
-};
-
 // A transfer's five arrays, one after another, in host memory (pos, velrho, velrho_prev,
 // cell, id): what a message between ranks carries.
 void pack(Bytes& out, const ParticleSpan& src, std::size_t count) {
@@ -45,15 +40,37 @@ std::size_t unpack(const Bytes& in, std::size_t at, const ParticleSpan& dst, std
 
 }  // namespace
 
+SliceRange boundary_send_slices(const SlabDecomposition& now, const SlabDecomposition& next, int from, int to,
+                                int ghost_slices, int reach) {
+    const int ext_begin = std::max(0, next.begin(to) - ghost_slices);
+    const int ext_end = std::min(next.slices(), next.end(to) + ghost_slices);
+    const int lo = std::max(now.begin(from), ext_begin - reach);
+    const int hi = std::min(now.end(from), ext_end + reach);
+    return {lo, std::max(lo, hi)};
+}
+
+BoundaryArea boundary_area(const SlabDecomposition& now, const SlabDecomposition& next, int g, int ghost_slices,
+                           int reach) {
+    BoundaryArea a{now.begin(g), now.begin(g), now.end(g), now.end(g)};
+    for (int k = 0; k < now.devices(); ++k) {
+        if (k == g) continue;
+        const SliceRange r = boundary_send_slices(now, next, g, k, ghost_slices, reach);
+        if (r.empty()) continue;
+        if (k < g) a.left_end = std::max(a.left_end, r.end);
+        else a.right_begin = std::min(a.right_begin, r.begin);
+    }
+    // Narrow slabs: the two edges' areas meet and there is no inner area.
+    a.right_begin = std::max(a.right_begin, a.left_end);
+    return a;
+}
+
 ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs,
                                         RankGroup& ranks, const SubdomainPlacement& placement) {
-    ExchangeCounters c;
     const int n = slabs.devices();
     const int slices = slabs.slices();
-    const int me = ranks.rank(), first_local = placement.first(me), local = int(subs.size());
+    const int first_local = placement.first(ranks.rank()), local = int(subs.size());
     auto ext_begin = [&](int k) { return std::max(0, slabs.begin(k) - ghost_slices_); };
     auto ext_end = [&](int k) { return std::min(slices, slabs.end(k) + ghost_slices_); };
-    auto is_local = [&](int g) { return g >= first_local && g < first_local + local; };
 
     // Where each extended slab (and the owned part inside it) starts and ends in each sorted
     // subdomain of this rank: one read of cell_start per subdomain.
@@ -69,6 +86,24 @@ ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>&
             mine[std::size_t(d) * n + k] = {b[0], std::uint64_t(b[3] - b[0]), std::uint64_t(b[2] - b[1])};
         }
     }
+    const ExchangeCounters c = carry(subs, mine, ranks, placement, false);
+    for (int d = 0; d < local; ++d) {
+        const int g = first_local + d;
+        subs[d]->keep_only_cells(first_cell(ext_begin(g)), first_cell(ext_end(g)));
+        subs[d]->accept_received();
+        subs[d]->sort_by_cell();
+        subs[d]->set_owned_cells(first_cell(slabs.begin(g)), first_cell(slabs.end(g)));
+    }
+    return c;
+}
+
+ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                     const std::vector<TransferSize>& mine, RankGroup& ranks,
+                                     const SubdomainPlacement& placement, bool overlapped) {
+    ExchangeCounters c;
+    const int n = placement.subdomains();
+    const int me = ranks.rank(), first_local = placement.first(me), local = int(subs.size());
+    auto is_local = [&](int g) { return g >= first_local && g < first_local + local; };
     // Blocks in rank order are subdomains in order: row g of the whole matrix is sizes[g * n, ...).
     const std::vector<TransferSize> sizes = allgather_values(ranks, mine);
     if (int(sizes.size()) != n * n) throw RunError("the ranks disagree on the number of subdomains");
@@ -101,7 +136,7 @@ ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>&
                 pack(sends[placement.rank_of(k)], subs[g - first_local]->particles(t.first, t.count), t.count);
             }
         }
-    transport_->deliver(subs, transfers, areas);
+    overlapped ? transport_->begin_delivery(subs, transfers, areas) : transport_->deliver(subs, transfers, areas);
     if (ranks.size() > 1) {
         const std::vector<Bytes> received = ranks.exchange(sends);
         // Each sender packed its transfers by source subdomain, then destination: read them so.
@@ -116,14 +151,40 @@ ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>&
             if (at != received[r].size()) throw RunError("an MPI particle message is longer than its transfer sizes");
         }
     }
+    return c;
+}
+
+ExchangeCounters SlabExchange::begin_boundary_exchange(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                                       const SlabDecomposition& now, const SlabDecomposition& next,
+                                                       int reach, const std::vector<std::vector<std::uint32_t>>& starts,
+                                                       RankGroup& ranks, const SubdomainPlacement& placement) {
+    const int n = now.devices();
+    const int first_local = placement.first(ranks.rank()), local = int(subs.size());
+    std::vector<TransferSize> mine(std::size_t(local) * n);
     for (int d = 0; d < local; ++d) {
         const int g = first_local + d;
-        subs[d]->keep_only_cells(first_cell(ext_begin(g)), first_cell(ext_end(g)));
-        subs[d]->accept_received();
-        subs[d]->sort_by_cell();
-        subs[d]->set_owned_cells(first_cell(slabs.begin(g)), first_cell(slabs.end(g)));
+        const std::vector<std::uint32_t>& at = starts[d];  // cell_start at slices now.begin(g) .. now.end(g)
+        if (int(at.size()) != now.width(g) + 1) throw RunError("the slice starts of a subdomain are out of date");
+        for (int k = 0; k < n; ++k) {
+            if (k == g) continue;
+            const SliceRange r = boundary_send_slices(now, next, g, k, ghost_slices_, reach);
+            if (r.empty()) continue;
+            const std::uint32_t first = at[r.begin - now.begin(g)], last = at[r.end - now.begin(g)];
+            mine[std::size_t(d) * n + k] = {first, std::uint64_t(last - first), 0};
+        }
     }
-    return c;
+    return carry(subs, mine, ranks, placement, true);
+}
+
+std::size_t SlabExchange::settle(Subdomain& sub, int g, const SlabDecomposition& next) {
+    const std::uint32_t ext_begin = first_cell(std::max(0, next.begin(g) - ghost_slices_));
+    const std::uint32_t ext_end = first_cell(std::min(next.slices(), next.end(g) + ghost_slices_));
+    const std::uint32_t owned_begin = first_cell(next.begin(g)), owned_end = first_cell(next.end(g));
+    const ReceivedCount c = sub.accept_received_in(ext_begin, ext_end, owned_begin, owned_end);
+    sub.sort_by_cell();
+    sub.keep_only_cells(ext_begin, ext_end);  // what went beyond it is the neighbours' now
+    sub.set_owned_cells(owned_begin, owned_end);
+    return c.owned;
 }
 
 }  // namespace sph

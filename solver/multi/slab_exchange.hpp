@@ -29,6 +29,27 @@ struct ExchangeCounters {
     unsigned long long particles_migrated = 0, ghosts_sent = 0, bytes = 0;
 };
 
+// The slices [begin, end) of one slab.
+struct SliceRange {
+    int begin = 0, end = 0;
+    bool empty() const { return end <= begin; }
+};
+
+// Paper section 5.3: what subdomain `from` sends, whole and before its inner update, to
+// subdomain `to` (from != to): the owned slices of `from` in `now` from which a particle
+// moving at most `reach` slices can land in the extended slab of `to` in `next` (the slabs
+// after the balancer's move). Empty when none can.
+SliceRange boundary_send_slices(const SlabDecomposition& now, const SlabDecomposition& next, int from, int to,
+                                int ghost_slices, int reach);
+// The boundary area of subdomain g: every slice it sends from, as the slices at its left edge
+// [begin, left_end) and at its right edge [right_begin, end) (left_end <= right_begin); the
+// inner area [left_end, right_begin) is updated while the boundary area travels.
+struct BoundaryArea {
+    int begin = 0, left_end = 0, right_begin = 0, end = 0;
+};
+BoundaryArea boundary_area(const SlabDecomposition& now, const SlabDecomposition& next, int g, int ghost_slices,
+                           int reach);
+
 class SlabExchange {
 public:
     SlabExchange(const GridView& grid, int ghost_slices, std::unique_ptr<ParticleTransport> transport)
@@ -41,11 +62,40 @@ public:
     ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs,
                               RankGroup& ranks, const SubdomainPlacement& placement);
 
+    // The exchange of paper section 5.3, issued after the boundary areas are updated (each
+    // marked ready with the transport) and carried under the inner update. `starts[d]` holds
+    // cell_start at the slices begin .. end (inclusive) of local subdomain d's slab in `now`,
+    // read after its last sort: the boundary slices are sent whole from those ranges, without
+    // gathering. `next` is the decomposition the receivers settle for. Counts the particles
+    // and bytes that travel (every rank); particles_migrated is known only when they settle.
+    ExchangeCounters begin_boundary_exchange(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                             const SlabDecomposition& now, const SlabDecomposition& next, int reach,
+                                             const std::vector<std::vector<std::uint32_t>>& starts, RankGroup& ranks,
+                                             const SubdomainPlacement& placement);
+    // Orders each local subdomain's later work after the exchange (no host wait).
+    void finish_boundary_exchange(std::vector<std::unique_ptr<Subdomain>>& subs) { transport_->finish_delivery(subs); }
+    // After finish, and after subdomain `sub` (global g) dropped its ghosts: appends what it
+    // needs of what arrived, sorts, drops what left its extended slab of `next` and sets its
+    // owned cells: the state exchange() leaves, bitwise. Returns the received particles it
+    // now owns.
+    std::size_t settle(Subdomain& sub, int g, const SlabDecomposition& next);
+    void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int local) { transport_->mark_ready(subs, local); }
+    double last_delivery_ms() { return transport_->last_delivery_ms(); }  // ParticleTransport's
+
     std::uint32_t slice_cells() const { return std::uint32_t(grid_.ny) * std::uint32_t(grid_.nz); }
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells(); }
     const ParticleTransport& transport() const { return *transport_; }
 
 private:
+    struct TransferSize {
+        std::uint64_t first = 0, count = 0, owned = 0;  // owned: of count, particles the receiver will own
+    };
+    // Lays out the receive areas for the whole transfer matrix (row g: what g sends, in
+    // subdomain order on every rank) and carries this rank's transfers: the transport within
+    // the rank (begin_delivery when overlapped, else deliver), MPI messages between ranks.
+    ExchangeCounters carry(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<TransferSize>& mine,
+                           RankGroup& ranks, const SubdomainPlacement& placement, bool overlapped);
+
     GridView grid_;
     int ghost_slices_;
     std::unique_ptr<ParticleTransport> transport_;
