@@ -10,6 +10,7 @@
 #include <string>
 
 #include "scratch_folder.hpp"
+#include "sphbench_driver.hpp"
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "csv_table.hpp"
@@ -21,25 +22,7 @@ namespace fs = std::filesystem;
 namespace sph {
 namespace {
 
-// Runs `sphbench ARGS...` through the real command registrations; returns its exit code.
-int sphbench(std::vector<std::string> args) {
-    args.insert(args.begin(), "sphbench");
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    CLI::App app{"sphbench"};
-    app.require_subcommand(1);
-    CommandContext ctx{int(argv.size()), argv.data()};
-    add_run_command(app, ctx);
-    add_compare_command(app, ctx);
-    try {
-        app.parse(int(argv.size()), argv.data());
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? exit_ok : exit_usage;
-    } catch (const InputError&) {
-        return exit_usage;
-    }
-    return ctx.exit_code;
-}
+using test::sphbench;
 
 struct FakeRun {
     std::string id;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "scratch_folder.hpp"
+#include "sphbench_driver.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "core/error.hpp"
@@ -212,34 +213,7 @@ TEST_F(SettingsTableTest, RangesReadAsAPersonWritesThem) {
     EXPECT_EQ(number_above(0).check("n", "2.50"), "2.5");
 }
 
-// `sphbench ARGS...` through the real registrations and main's check of the subcommand:
-// the exit code, and the message of what was refused.
-int sphbench(std::vector<std::string> args, std::string& message) {
-    args.insert(args.begin(), "sphbench");
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    CLI::App app{"sphbench"};
-    app.require_subcommand(1);
-    CommandContext ctx{int(argv.size()), argv.data()};
-    add_simulate_command(app, ctx);
-    add_run_command(app, ctx);
-    add_info_command(app, ctx);
-    message.clear();
-    try {
-        check_subcommand(app, int(argv.size()), argv.data());
-        app.parse(int(argv.size()), argv.data());
-    } catch (const CLI::ParseError& e) {
-        message = e.what();
-        return exit_usage;
-    } catch (const InputError& e) {
-        message = e.what();
-        return exit_usage;
-    } catch (const std::exception& e) {
-        message = e.what();
-        return exit_run_failed;
-    }
-    return ctx.exit_code;
-}
+using test::sphbench;
 
 TEST_F(SettingsTableTest, TheIssuesCommandLinesGetOneSentenceEach) {
     std::string m;
