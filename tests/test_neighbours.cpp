@@ -185,7 +185,6 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, StencilFluidCells,
 class HitMaskTraversal : public ::testing::TestWithParam<RangeCase> {};
 
 struct RecordedPairs {
-    real4 pos_i;
     std::vector<std::uint32_t> j;
     std::vector<real3> rij;
     void add(std::uint32_t jj, const real3& r, real) {
@@ -211,7 +210,7 @@ TEST_P(HitMaskTraversal, HandsThePairSumsVisitsNeighboursInOrder) {
             if (a.cell[i] >= g.out_of_domain()) continue;
             const bool fluid_i = !is_boundary(a.velrho[i]);
             const int3v c = g.decode(a.cell[i]);
-            RecordedPairs expected{a.pos[i], {}, {}}, got{a.pos[i], {}, {}};
+            RecordedPairs expected, got;
             Search::visit(g, in.cell_start, in.cell, c, [&](std::uint32_t j, int dx, int dy, int dz) {
                 const real3 r = separation(a.pos[i], a.pos[j], dx, dy, dz, g.cell_size);
                 const real r2 = dot(r, r);
@@ -223,13 +222,13 @@ TEST_P(HitMaskTraversal, HandsThePairSumsVisitsNeighboursInOrder) {
                 Search::visit_ranges(g, in.cell_start, c,
                                      [&](std::uint32_t b, std::uint32_t e, int dx, int dy, typename Search::RangeZ z) {
                                          if (e - b > 32) ++long_ranges;
-                                         add_range_by_hit_masks(got, in, p, b, e, dx, dy,
+                                         add_range_by_hit_masks(got, a.pos[i], in, p, b, e, dx, dy,
                                                                 [&](std::uint32_t j) { return z.of(in.cell, j); });
                                      });
             } else {
                 Search::visit_fluid_cells(g, in.cell_start, in.fluid_begin, c,
                                           [&](std::uint32_t b, std::uint32_t e, int dx, int dy, int dz) {
-                                              add_range_by_hit_masks(got, in, p, b, e, dx, dy,
+                                              add_range_by_hit_masks(got, a.pos[i], in, p, b, e, dx, dy,
                                                                      [dz](std::uint32_t) { return dz; });
                                           });
             }
@@ -252,6 +251,79 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, HitMaskTraversal,
                          ::testing::Values(RangeCase{1, false, false}, RangeCase{1, true, false},
                                            RangeCase{2, true, false}, RangeCase{4, true, false},
                                            RangeCase{1, false, true}, RangeCase{1, true, true},
+                                           RangeCase{2, false, true}),
+                         [](const auto& info) {
+                             return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
+                                    (info.param.periodic ? "_periodic" : "_open");
+                         });
+
+// The GPU's compacted force loop walks every lane's stencil in step
+// (CellSearch::visit_ranges_in_step): the same number of ranges around every cell, empty
+// outside the grid, and, with a merged run's walls dropped for wall particles, exactly the
+// candidates of visit() (walls: of visit_fluid_cells) in their order with their cell offsets.
+// Cells at every edge of the grid, open and periodic (not merged across a periodic z face).
+class StepwiseRanges : public ::testing::TestWithParam<RangeCase> {};
+
+TEST_P(StepwiseRanges, GiveEachParticleItsCandidatesInVisitOrder) {
+    const RangeCase rc = GetParam();
+    const SearchOptions opt{rc.n, rc.merge};
+    const SortedCells sc = sorted_cells(rc, opt, 9191u + rc.n * 4 + rc.merge * 2 + rc.periodic);
+    const GridView& g = sc.grid.view;
+    const ParticleArrays& a = sc.a;
+    using Visit = std::vector<std::array<std::uint32_t, 4>>;
+    auto entry = [](std::uint32_t j, int dx, int dy, int dz) {
+        return std::array<std::uint32_t, 4>{j, std::uint32_t(dx + 8), std::uint32_t(dy + 8), std::uint32_t(dz + 8)};
+    };
+    std::size_t candidates = 0, dropped_walls = 0, empty_ranges = 0;
+    dispatch_search(opt, [&](auto tag) {
+        using Search = typename decltype(tag)::type;
+        const unsigned side = 2 * Search::n + 1, steps = Search::merge ? side * side : side * side * side;
+        for (std::uint32_t i = 0; i < a.size(); ++i) {
+            if (a.cell[i] >= g.out_of_domain()) continue;
+            const bool wall = is_boundary(a.velrho[i]);
+            const int3v c = g.decode(a.cell[i]);
+            Visit expected, got;
+            Search::visit(g, sc.start.data(), a.cell.data(), c, [&](std::uint32_t j, int dx, int dy, int dz) {
+                if (!wall || !is_boundary(a.velrho[j])) expected.push_back(entry(j, dx, dy, dz));
+            });
+            unsigned calls = 0;
+            Search::visit_ranges_in_step(g, sc.start.data(), sc.fluid_begin.data(), c, true, wall,
+                                         [&](std::uint32_t b, std::uint32_t e, int dx, int dy,
+                                             typename Search::RangeZ z) {
+                                             ++calls;
+                                             if (b == e) ++empty_ranges;
+                                             for (std::uint32_t j = b; j < e; ++j) {
+                                                 if (wall && is_boundary(a.velrho[j])) {
+                                                     ++dropped_walls;
+                                                     continue;
+                                                 }
+                                                 got.push_back(entry(j, dx, dy, z.of(a.cell.data(), j)));
+                                             }
+                                         });
+            ASSERT_EQ(calls, steps) << "particle " << i;
+            ASSERT_EQ(got, expected) << "particle " << i;
+            candidates += got.size();
+            unsigned nonempty = 0;
+            Search::visit_ranges_in_step(g, sc.start.data(), sc.fluid_begin.data(), c, false, wall,
+                                         [&](std::uint32_t b, std::uint32_t e, int, int, typename Search::RangeZ) {
+                                             nonempty += b != e;
+                                         });
+            ASSERT_EQ(nonempty, 0u) << "a lane that does not walk got a range, particle " << i;
+        }
+    });
+    EXPECT_GT(candidates, 10 * a.size());
+    if (!rc.periodic) {
+        EXPECT_GT(empty_ranges, 0u);  // cells at the edges
+    }
+    if (rc.merge) {
+        EXPECT_GT(dropped_walls, 0u);  // merged runs of wall particles held walls
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllStrategies, StepwiseRanges,
+                         ::testing::Values(RangeCase{1, false, false}, RangeCase{1, true, false},
+                                           RangeCase{2, false, false}, RangeCase{2, true, false},
+                                           RangeCase{3, true, false}, RangeCase{1, false, true},
                                            RangeCase{2, false, true}),
                          [](const auto& info) {
                              return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +

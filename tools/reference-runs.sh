@@ -9,7 +9,8 @@
 #   forceloop: the force loop's before/after (issue 12): the CUDA force tests, the
 #           benchmark cases with sphbench and with $BASE (an older build, when on PATH),
 #           alternating (and the commands named in $EXTRA_BINS), Nsight Compute on the force kernels, and DualSPHysics beside them
-#           when DSPH (its anchor folder) is set; CASE_COUNT=N runs the first N cases only
+#           when DSPH (its anchor folder) is set; CASE_COUNT=N runs the first N cases only,
+#           CASES='a;b' these cases, NCU_CASES='a;b' these under Nsight Compute
 #   accuracy: the CUDA tests, the accuracy sweep (needs sphbench-f64: F64=1 gpu-run.sh pack)
 #           and the stability studies (issue 6)
 set -uo pipefail
@@ -60,6 +61,8 @@ forceloop)
          "dsph-dambreak --set dp=0.0028 --merge"
          "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2 --merge")
   [ -n "${CASE_COUNT:-}" ] && cases=("${cases[@]:0:$CASE_COUNT}")  # the first N cases only (a short lease)
+  [ -n "${CASES:-}" ] && IFS=';' read -r -a cases <<<"$CASES"      # or these cases, separated by ';'
+  [ -n "${NCU_CASES:-}" ] && IFS=';' read -r -a ncu_cases <<<"$NCU_CASES" || ncu_cases=("dsph-dambreak" "armadillo --set particles=2980000")
   bins=(sphbench)
   [ -n "${BASE:-}" ] && command -v "$BASE" >/dev/null && bins=("$BASE" sphbench)
   for extra in ${EXTRA_BINS:-}; do command -v "$extra" >/dev/null && bins+=("$extra"); done
@@ -76,7 +79,7 @@ forceloop)
   done
   if [ -n "${DSPH:-}" ] && [ -x "$DSPH/run.sh" ]; then bash "$DSPH/run.sh" "$out/dualsphysics" | tail -8; fi
   if [ "${NCU:-1}" = 1 ] && command -v ncu >/dev/null; then
-    for args in "dsph-dambreak" "armadillo --set particles=2980000"; do
+    for args in "${ncu_cases[@]}"; do
       for bin in "${bins[@]}"; do
         echo "== ncu $bin simulate $args" | tee -a "$out/ncu.txt"
         ncu --clock-control none -k 'regex:forces_' --launch-skip 3 --launch-count 1 \

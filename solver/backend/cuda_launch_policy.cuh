@@ -18,9 +18,24 @@ struct ElementwisePolicy {
 #define SPH_FORCE_HIT_MASKS 2
 #endif
 
-// The force loop (cuda_kernels.cu, forces_kernel): one thread per particle.
+// Whether the force loop queues each warp's pairs and runs the body on full batches of 32
+// (forces_compacted_kernel, cuda_pair_queue.cuh) or runs it per thread (forces_kernel). 2 (the
+// default) is the choice per search measured on an H200 (bench/FORCE_LOOP_NOTES.md, change 7);
+// 1 compacts for every search and 0 never (SPH_FORCE_LOOP=per-thread at run time also
+// forces the per-thread loop, to time both on one build).
+#ifndef SPH_FORCE_COMPACT
+#define SPH_FORCE_COMPACT 1
+#endif
+
+// The force loop (cuda_kernels.cu, forces_kernel and forces_compacted_kernel): one thread per particle.
 struct ForceLoopPolicySm90 {
     static constexpr int block_size = 128;
+    // Measured: compacting wins on cells of the support (the body ran at 15 of 32 lanes:
+    // -12% a step on the dam break), and loses 8-20% on smaller cells, where the per-thread
+    // loop's hit masks already keep 22 of 32 lanes busy and the queue's pushes and drains
+    // cost more than the idle lanes did.
+    template <class Search>
+    static constexpr bool compacted = SPH_FORCE_COMPACT != 0;
     // Measured: masks win on cells of the support (3-6%) and on merged runs of smaller cells
     // (7-10%); they lose 6% on smaller cells without merging (ranges of ~5 candidates) and 1%
     // on merged runs of cells of the support.

@@ -55,6 +55,23 @@ SPH_HD real fast_divide(real a, real b) {
 #endif
 }
 
+// a + b as one rounded addition that the compiler may not fuse with a multiplication before
+// it: a pair's terms are summed into a particle's totals this way wherever they were computed
+// (in the same thread, or in another lane of a GPU warp and passed through shared memory), so
+// that a particle's sums have the same bits whichever force loop ran them.
+SPH_HD real add_uncontracted(real a, real b) {
+#if defined(__CUDA_ARCH__) && defined(SPH_DOUBLE)
+    return __dadd_rn(a, b);
+#elif defined(__CUDA_ARCH__)
+    return __fadd_rn(a, b);
+#else
+    return a + b;  // the host build does not target FMA, so nothing is fused there
+#endif
+}
+SPH_HD real3 add_uncontracted(real3 a, real3 b) {
+    return {add_uncontracted(a.x, b.x), add_uncontracted(a.y, b.y), add_uncontracted(a.z, b.z)};
+}
+
 // The index of the lowest set bit of a non-zero mask.
 SPH_HD int lowest_set_bit(std::uint32_t mask) {
 #if defined(__CUDA_ARCH__)

@@ -122,6 +122,55 @@ struct CellSearch {
         });
     }
 
+    // The ranges of visit_ranges() around cell c, or for a wall particle (fluid_only) the
+    // fluid of visit_fluid_cells()' cells, in a sequence that is the same around every cell:
+    // each (dx, dy) column of the stencil in order, then (unmerged) each dz, with a range that
+    // lies outside the grid (or every range, when !walk) passed empty. The lanes of a GPU warp
+    // walk their stencils in step this way. A merged run is passed whole even for a wall
+    // particle (its cells' walls are the caller's to skip: a run's fluid is not one range).
+    // Not for merged runs across a periodic z face, which come in pieces.
+    template <class F>
+    SPH_HD static void visit_ranges_in_step(const GridView& g, const std::uint32_t* cell_start,
+                                            const std::uint32_t* fluid_begin, int3v c, bool walk, bool fluid_only,
+                                            F&& f) {
+        for (int dx = -N; dx <= N; ++dx) {
+            int x = c.x + dx;
+            bool x_ok = walk;
+            if (x < 0 || x >= g.nx) {
+                if (g.periodic_x) x = wrap_index(x, g.nx);
+                else x_ok = false;
+            }
+            for (int dy = -N; dy <= N; ++dy) {
+                int y = c.y + dy;
+                bool ok = x_ok;
+                if (y < 0 || y >= g.ny) {
+                    if (g.periodic_y) y = wrap_index(y, g.ny);
+                    else ok = false;
+                }
+                const std::uint32_t column = ok ? g.encode(x, y, 0) : 0;
+                if constexpr (Merge) {
+                    const int z0 = c.z - N < 0 ? 0 : c.z - N, z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
+                    const std::uint32_t b = ok ? cell_start[column + z0] : 0;
+                    const std::uint32_t e = ok ? cell_start[column + z1 + 1] : 0;
+                    f(b, e, dx, dy, RangeZ{0, int(column) + c.z});
+                } else {
+                    for (int dz = -N; dz <= N; ++dz) {
+                        int z = c.z + dz;
+                        bool z_ok = ok;
+                        if (z < 0 || z >= g.nz) {
+                            if (g.periodic_z) z = wrap_index(z, g.nz);
+                            else z_ok = false;
+                        }
+                        const std::uint32_t cz = column + std::uint32_t(z);
+                        const std::uint32_t b = z_ok ? (fluid_only ? fluid_begin[cz] : cell_start[cz]) : 0;
+                        const std::uint32_t e = z_ok ? cell_start[cz + 1] : 0;
+                        f(b, e, dx, dy, RangeZ{dz, 0});
+                    }
+                }
+            }
+        }
+    }
+
     // How many particle ranges visit() reads around cell c (cells, or merged z-runs).
     SPH_HD static unsigned ranges(const GridView& g, int3v c) {
         unsigned cols = 0, runs = 0;

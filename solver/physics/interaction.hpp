@@ -38,56 +38,103 @@ struct ForceInputs {
     GridView grid;
 };
 
-// The sums over one particle's neighbours. add() takes one candidate j and the separation
-// x_i - x_j; the search strategy (cell ranges or a stored list) only decides who is visited.
+// What a pair's terms read of particle i: its position (w: pressure), velocity and density,
+// and the previous step's.
+struct ParticleSide {
+    real4 pos, vr, old;
+    SPH_HD bool fluid() const { return !is_boundary(vr); }
+};
+SPH_HD ParticleSide particle_side(const ForceInputs& in, std::uint32_t i) {
+    return {in.pos[i], in.velrho[i], in.velrho_prev[i]};
+}
+
+// One pair's contribution to particle i: acceleration and d rho / dt.
+struct PairTerms {
+    real3 acc;
+    real drho;
+};
+
+// The pair body: the terms of one pair (i, j) inside the support that is not boundary-boundary,
+// given i's side, j's velocity and density (loaded by the caller, which tested the pair) and
+// the separation x_i - x_j. Boundary particles only gather density.
 template <class Kernel, bool Diffusion>
-struct PairSums {
+struct PairBody {
     const ForceInputs& in;
     const PhysicsParams& p;
     const Kernel kernel;  // a copy (two numbers): a reference to a local made the GPU keep it on the stack
-    real4 pos_i, vr_i, old_i;
-    bool fluid_i;
-    real rho_i, diffusion_coef, visc_coef, laminar_coef;
+    real diffusion_coef, visc_coef, laminar_coef;
     real3 hydrostatic_drho;  // rho0 g / c0^2: d rho^H / d r
-    real3 acc{0, 0, 0};
-    real drho = 0;
 
-    SPH_HD PairSums(std::uint32_t i, const ForceInputs& in_, const PhysicsParams& p_, const Kernel& k)
-        : in(in_), p(p_), kernel(k), pos_i(in_.pos[i]), vr_i(in_.velrho[i]), old_i(in_.velrho_prev[i]),
-          fluid_i(!is_boundary(vr_i)), rho_i(density(vr_i)), diffusion_coef(Diffusion ? 2 * p_.delta * p_.h * p_.c0 * p_.mass : real(0)),
+    SPH_HD PairBody(const ForceInputs& in_, const PhysicsParams& p_, const Kernel& k)
+        : in(in_), p(p_), kernel(k), diffusion_coef(Diffusion ? 2 * p_.delta * p_.h * p_.c0 * p_.mass : real(0)),
           visc_coef(p_.alpha * p_.h * p_.c0), laminar_coef(4 * p_.nu * p_.mass),
           hydrostatic_drho((p_.rho0 / (p_.c0 * p_.c0)) * p_.gravity) {}
 
-    SPH_HD void add(std::uint32_t j, const real3& rij, real r2) {
-        if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
-        const real4 vr_j = in.velrho[j];
+    SPH_HD PairTerms terms(const ParticleSide& a, std::uint32_t j, const real4& vr_j, const real3& rij, real r2) const {
         const bool fluid_j = !is_boundary(vr_j);
-        if (!fluid_i && !fluid_j) return;  // boundary-boundary pairs do nothing
         const real fac = kernel.grad_factor(sqrt_r(r2));
-        drho += p.mass * fac * dot(xyz(vr_i) - xyz(vr_j), rij);  // m (v_ij . r_ij) F, with grad W = r_ij F
-        if (!fluid_i) return;
-        const real rho_j = density(vr_j);
+        PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij)};  // m (v_ij . r_ij) F, grad W = r_ij F
+        if (!a.fluid()) return t;
+        const real rho_i = density(a.vr), rho_j = density(vr_j);
         // Boundary particles never change velocity, and their old density is not read: skip
         // the load (walls are half of some scenes' neighbours).
         const real4 old_j = fluid_j ? in.velrho_prev[j] : vr_j;
         if (Diffusion && fluid_j) {
             const real old_rho_j = density(old_j);
-            drho += fast_divide(fast_divide(diffusion_coef * (density(old_i) - old_rho_j - dot(hydrostatic_drho, rij)),
-                                            old_rho_j) * r2 * fac,
-                                r2 + p.eta2);
+            t.drho += fast_divide(fast_divide(diffusion_coef * (density(a.old) - old_rho_j - dot(hydrostatic_drho, rij)),
+                                              old_rho_j) * r2 * fac,
+                                  r2 + p.eta2);
         }
-        const real3 old_vij = xyz(old_i) - xyz(old_j);
+        const real3 old_vij = xyz(a.old) - xyz(old_j);
         const real old_vdotr = dot(old_vij, rij);
         real pi_ij = 0;
         if (old_vdotr < 0) pi_ij = fast_divide(-visc_coef * old_vdotr, (r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
-        const real s = -p.mass * (pos_i.w + in.pos[j].w + pi_ij) * fac;
-        acc += s * rij;
+        const real s = -p.mass * (a.pos.w + in.pos[j].w + pi_ij) * fac;
+        t.acc = s * rij;
         // A uniform runtime branch rather than a template flag: compiling the laminar term
         // out would double the force kernels' instantiations (kernel x search x diffusion)
         // and the CUDA compile time, and every thread takes the same side.
-        if (p.nu > 0) acc += fast_divide(laminar_coef * r2 * fac, (rho_i + rho_j) * (r2 + p.eta2)) * old_vij;
+        if (p.nu > 0) t.acc += fast_divide(laminar_coef * r2 * fac, (rho_i + rho_j) * (r2 + p.eta2)) * old_vij;
+        return t;
     }
-    SPH_HD real4 result() const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
+};
+
+// One particle's totals, summed pair by pair in visiting order. A wall particle's sums are
+// the same bits whichever GPU loop computed its terms (add_uncontracted), since a run can
+// take a wall particle through either, warp by warp (cuda_kernels.cu, forces_compacted_kernel);
+// a fluid particle goes through one loop in a run, where the sum may fuse with the terms'
+// last products (that fusion is 2-4% of the per-thread loop on an H200).
+struct PairTotals {
+    bool fluid_i;
+    real3 acc{0, 0, 0};
+    real drho = 0;
+    SPH_HD void accumulate(const PairTerms& t) {
+        drho = add_uncontracted(drho, t.drho);
+        if (fluid_i) acc = add_uncontracted(acc, t.acc);
+    }
+    SPH_HD real4 result(const PhysicsParams& p) const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
+};
+
+// The sums over one particle's neighbours. add() takes one candidate j and the separation
+// x_i - x_j; the search strategy (cell ranges or a stored list) only decides who is visited.
+template <class Kernel, bool Diffusion>
+struct PairSums {
+    PairBody<Kernel, Diffusion> body;
+    ParticleSide side;
+    PairTotals totals;
+
+    SPH_HD PairSums(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p, const Kernel& k)
+        : body(in, p, k), side(particle_side(in, i)), totals{side.fluid()} {}
+
+    SPH_HD void add(std::uint32_t j, const real3& rij, real r2) {
+        const PhysicsParams& p = body.p;
+        if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
+        const real4 vr_j = body.in.velrho[j];
+        if (!totals.fluid_i && is_boundary(vr_j)) return;  // boundary-boundary pairs do nothing
+        totals.accumulate(body.terms(side, j, vr_j, rij, r2));
+    }
+    SPH_HD bool fluid_i() const { return totals.fluid_i; }
+    SPH_HD real4 result() const { return totals.result(body.p); }
 };
 
 // x_i - x_j from cell-relative offsets: (cell_i - cell_j) * cs + off_i - off_j, exact in the
@@ -120,35 +167,47 @@ SPH_HD real3 listed_separation(const real4& pi, const real4& pj, int3v ci, int3v
     return r;
 }
 
+// x_i - x_j for the candidates of one stencil range of cell offset (dx, dy) and, per
+// candidate, dz: the same as separation() up to rounding, with the x and y cell offsets taken
+// off x_i once per range rather than per candidate. Every loop that takes ranges (hit masks,
+// the GPU's pair queue) forms separations through it, so they agree to the bit.
+struct RangeSeparation {
+    real bx, by, pz, csz;
+    SPH_HD RangeSeparation(const real4& pos_i, int dx, int dy, const real3& cs)
+        : bx(pos_i.x - dx * cs.x), by(pos_i.y - dy * cs.y), pz(pos_i.z), csz(cs.z) {}
+    SPH_HD real3 operator()(const real4& pj, int dz) const { return make3(bx - pj.x, by - pj.y, pz - dz * csz - pj.z); }
+};
+
+// The candidates of [j0, j0 + n) (n <= 32) inside the support of a particle, one bit each.
+template <class ZOffset>
+SPH_HD std::uint32_t support_hits(const ForceInputs& in, const PhysicsParams& p, const RangeSeparation& sep,
+                                  std::uint32_t j0, std::uint32_t n, const ZOffset& z_offset) {
+    const real near2 = real(1e-18) * p.support2;
+    std::uint32_t hits = 0;
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const real3 rij = sep(in.pos[j0 + k], z_offset(j0 + k));
+        const real r2 = dot(rij, rij);
+        if (r2 < p.support2 && r2 > near2) hits |= std::uint32_t(1) << k;
+    }
+    return hits;
+}
+
 // One particle range of the stencil through the pair sums, in two passes per 32 candidates:
 // the lanes test every candidate and set a bit per neighbour, then each lane runs the pair
 // body over its own bits. Done candidate by candidate, a warp runs the body whenever any of
 // its lanes has a neighbour there, at the few lanes that do (13-15 of 32 on an H200); by bits,
 // the body runs as often as the lane with most neighbours in the chunk needs. The same
-// neighbours in the same order as visit(). The separation is the same as separation()'s up
-// to rounding: the cell offset is taken off x_i once per range, not per candidate.
+// neighbours in the same order as visit().
 template <class Sums, class ZOffset>
-SPH_HD void add_range_by_hit_masks(Sums& sums, const ForceInputs& in, const PhysicsParams& p, std::uint32_t begin,
-                                   std::uint32_t end, int dx, int dy, const ZOffset& z_offset) {
-    const real3 cs = in.grid.cell_size;
-    const real bx = sums.pos_i.x - dx * cs.x, by = sums.pos_i.y - dy * cs.y;
-    const auto rij_of = [&](std::uint32_t j) {
-        const real4 pj = in.pos[j];
-        return make3(bx - pj.x, by - pj.y, sums.pos_i.z - z_offset(j) * cs.z - pj.z);
-    };
-    const real near2 = real(1e-18) * p.support2;
+SPH_HD void add_range_by_hit_masks(Sums& sums, const real4& pos_i, const ForceInputs& in, const PhysicsParams& p,
+                                   std::uint32_t begin, std::uint32_t end, int dx, int dy, const ZOffset& z_offset) {
+    const RangeSeparation sep(pos_i, dx, dy, in.grid.cell_size);
     for (std::uint32_t j0 = begin; j0 < end; j0 += 32) {
-        const std::uint32_t n = end - j0 < 32 ? end - j0 : 32;
-        std::uint32_t hits = 0;
-        for (std::uint32_t k = 0; k < n; ++k) {
-            const real3 rij = rij_of(j0 + k);
-            const real r2 = dot(rij, rij);
-            if (r2 < p.support2 && r2 > near2) hits |= std::uint32_t(1) << k;
-        }
+        std::uint32_t hits = support_hits(in, p, sep, j0, end - j0 < 32 ? end - j0 : 32, z_offset);
         while (hits != 0) {
             const std::uint32_t j = j0 + std::uint32_t(lowest_set_bit(hits));
             hits &= hits - 1;
-            const real3 rij = rij_of(j);
+            const real3 rij = sep(in.pos[j], z_offset(j));
             sums.add(j, rij, dot(rij, rij));
         }
     }
@@ -165,15 +224,15 @@ SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const Physic
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
     const real3 cs = in.grid.cell_size;
     const int3v c = in.grid.decode(in.cell[i]);
-    if (!sums.fluid_i && in.fluid_begin != nullptr) {
+    if (!sums.fluid_i() && in.fluid_begin != nullptr) {
         Search::visit_fluid_cells(in.grid, in.cell_start, in.fluid_begin, c,
                                   [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, int dz) {
                                       if constexpr (HitMasks) {
-                                          add_range_by_hit_masks(sums, in, p, begin, end, dx, dy,
+                                          add_range_by_hit_masks(sums, sums.side.pos, in, p, begin, end, dx, dy,
                                                                  [dz](std::uint32_t) { return dz; });
                                       } else {
                                           for (std::uint32_t j = begin; j < end; ++j) {
-                                              const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
+                                              const real3 rij = separation(sums.side.pos, in.pos[j], dx, dy, dz, cs);
                                               sums.add(j, rij, dot(rij, rij));
                                           }
                                       }
@@ -181,12 +240,12 @@ SPH_HD real4 particle_force(std::uint32_t i, const ForceInputs& in, const Physic
     } else if constexpr (HitMasks) {
         Search::visit_ranges(in.grid, in.cell_start, c,
                              [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, typename Search::RangeZ z) {
-                                 add_range_by_hit_masks(sums, in, p, begin, end, dx, dy,
+                                 add_range_by_hit_masks(sums, sums.side.pos, in, p, begin, end, dx, dy,
                                                         [&](std::uint32_t j) { return z.of(in.cell, j); });
                              });
     } else {
         Search::visit(in.grid, in.cell_start, in.cell, c, [&](std::uint32_t j, int dx, int dy, int dz) {
-            const real3 rij = separation(sums.pos_i, in.pos[j], dx, dy, dz, cs);
+            const real3 rij = separation(sums.side.pos, in.pos[j], dx, dy, dz, cs);
             sums.add(j, rij, dot(rij, rij));
         });
     }
@@ -231,7 +290,7 @@ SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const
     for (std::uint32_t k = 0; k < n; ++k) {
         const std::uint32_t j = list.index[std::size_t(k) * list.stride + i];
         const int3v cj = in.grid.decode(in.cell[j]);
-        const real3 rij = listed_separation(sums.pos_i, in.pos[j], ci, cj, in.grid);
+        const real3 rij = listed_separation(sums.side.pos, in.pos[j], ci, cj, in.grid);
         sums.add(j, rij, dot(rij, rij));
     }
     return sums.result();
