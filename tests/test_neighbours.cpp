@@ -187,7 +187,7 @@ class HitMaskTraversal : public ::testing::TestWithParam<RangeCase> {};
 struct RecordedPairs {
     std::vector<std::uint32_t> j;
     std::vector<real3> rij;
-    void add(std::uint32_t jj, const real3& r, real) {
+    void add_neighbour(std::uint32_t jj, const real3& r, real) {
         j.push_back(jj);
         rij.push_back(r);
     }
@@ -216,7 +216,7 @@ TEST_P(HitMaskTraversal, HandsThePairSumsVisitsNeighboursInOrder) {
                 const real r2 = dot(r, r);
                 if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;
                 if (!fluid_i && is_boundary(a.velrho[j])) return;
-                expected.add(j, r, r2);
+                expected.add_neighbour(j, r, r2);
             });
             if (fluid_i) {
                 Search::visit_ranges(g, in.cell_start, c,

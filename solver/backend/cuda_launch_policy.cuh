@@ -24,7 +24,7 @@ struct ElementwisePolicy {
 // 1 compacts for every search and 0 never (SPH_FORCE_LOOP=per-thread at run time also
 // forces the per-thread loop, to time both on one build).
 #ifndef SPH_FORCE_COMPACT
-#define SPH_FORCE_COMPACT 1
+#define SPH_FORCE_COMPACT 2
 #endif
 
 // The force loop (cuda_kernels.cu, forces_kernel and forces_compacted_kernel): one thread per particle.
@@ -35,7 +35,7 @@ struct ForceLoopPolicySm90 {
     // loop's hit masks already keep 22 of 32 lanes busy and the queue's pushes and drains
     // cost more than the idle lanes did.
     template <class Search>
-    static constexpr bool compacted = SPH_FORCE_COMPACT != 0;
+    static constexpr bool compacted = SPH_FORCE_COMPACT == 2 ? Search::n == 1 : SPH_FORCE_COMPACT != 0;
     // Measured: masks win on cells of the support (3-6%) and on merged runs of smaller cells
     // (7-10%); they lose 6% on smaller cells without merging (ranges of ~5 candidates) and 1%
     // on merged runs of cells of the support.

@@ -109,8 +109,12 @@ struct PairTotals {
     real3 acc{0, 0, 0};
     real drho = 0;
     SPH_HD void accumulate(const PairTerms& t) {
-        drho = add_uncontracted(drho, t.drho);
-        if (fluid_i) acc = add_uncontracted(acc, t.acc);
+        if (fluid_i) {
+            drho += t.drho;
+            acc += t.acc;
+        } else {
+            drho = add_uncontracted(drho, t.drho);
+        }
     }
     SPH_HD real4 result(const PhysicsParams& p) const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
 };
@@ -129,6 +133,10 @@ struct PairSums {
     SPH_HD void add(std::uint32_t j, const real3& rij, real r2) {
         const PhysicsParams& p = body.p;
         if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
+        add_neighbour(j, rij, r2);
+    }
+    // add() for a candidate already known to lie inside the support (and not to be i).
+    SPH_HD void add_neighbour(std::uint32_t j, const real3& rij, real r2) {
         const real4 vr_j = body.in.velrho[j];
         if (!totals.fluid_i && is_boundary(vr_j)) return;  // boundary-boundary pairs do nothing
         totals.accumulate(body.terms(side, j, vr_j, rij, r2));
@@ -208,7 +216,7 @@ SPH_HD void add_range_by_hit_masks(Sums& sums, const real4& pos_i, const ForceIn
             const std::uint32_t j = j0 + std::uint32_t(lowest_set_bit(hits));
             hits &= hits - 1;
             const real3 rij = sep(in.pos[j], z_offset(j));
-            sums.add(j, rij, dot(rij, rij));
+            sums.add_neighbour(j, rij, dot(rij, rij));  // the same separation as the test's
         }
     }
 }
