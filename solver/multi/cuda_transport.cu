@@ -7,8 +7,8 @@
 #include "backend/cuda_check.cuh"
 #include "backend/nccl_library.cuh"
 #include "backend/pinned_staging.cuh"
-#include "multi/cuda_copy_streams.cuh"
 #include "core/error.hpp"
+#include "multi/cuda_copy_streams.cuh"
 #include "multi/particle_transport.hpp"
 
 namespace sph {
