@@ -134,11 +134,14 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
     // Refused here, before anything is allocated: GPU-direct that cannot be had.
     const RankTransportChoice rank_transport = choose_rank_transport(
         options_.backend, ranks.size(), options_.gpu_direct, ranks.cuda_aware(), ranks.library());
+    // Refused here too, before the slabs and any GPU memory: GPUs this rank does not have, or
+    // shares unasked.
+    const std::vector<int> gpus = options_.backend == BackendKind::cuda
+                                      ? subdomain_gpus(ranks, SubdomainPlacement(std::max(n, 1), ranks.size()))
+                                      : std::vector<int>{};
     // Slabs of about the same number of particles each; a slab keeps ghost-depth slices.
     domain_ = std::make_unique<SlabDomain>(grid_.view, n, options_.search.cells_per_support, options_.balancer, all,
                                            ranks, options_.overlap);
-    // Refused here too, before any GPU memory: GPUs this rank does not have, or shares unasked.
-    const std::vector<int> gpus = options_.backend == BackendKind::cuda ? subdomain_gpus(ranks) : std::vector<int>{};
     const SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel, options_.diffusion && scene_.params.delta > 0,
                               options_.search};
     // One subdomain holds everything; a slab needs room for what balancing gives it, plus ghosts.
@@ -160,13 +163,13 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
 
 // The GPU of each of this rank's subdomains (multi/gpu_choice.hpp): --gpu for one subdomain
 // without a device map; else the map, or this rank's share of its node's GPUs.
-std::vector<int> Simulation::subdomain_gpus(RankGroup& ranks) const {
+std::vector<int> Simulation::subdomain_gpus(RankGroup& ranks, const SubdomainPlacement& placement) const {
     if (options_.subdomains == 1 && options_.device_map.empty()) return {options_.device};
     GpuChoiceInput in;
     in.rank = ranks.rank();
     in.ranks = ranks.size();
-    in.first_subdomain = domain_->first_local();
-    in.subdomains = domain_->local_count();
+    in.first_subdomain = placement.first(ranks.rank());
+    in.subdomains = placement.count(ranks.rank());
     in.local_rank = ranks.local_rank();
     in.ranks_on_node = ranks.local_size();
     in.gpus_visible = cuda_device_count();

@@ -154,7 +154,7 @@ private:
     real verlet_skin() const;
     bool verlet_list_expired(double dt);
     void make_subdomains(const ParticleArrays& all);
-    std::vector<int> subdomain_gpus(RankGroup& ranks) const;
+    std::vector<int> subdomain_gpus(RankGroup& ranks, const SubdomainPlacement& placement) const;
     void exchange_particles(long step);
     void settle_exchange(long step);
     void advance_overlapped(const TimeStep& rule, const StepStats& stats, long step);
