@@ -94,8 +94,8 @@ TEST(GpuChoice, TheDeviceMapDecidesAndAGpuARankLacksIsNamed) {
     in.device_map = {0, 1, 1, 0};
     EXPECT_EQ(choose_gpus(in), (std::vector<int>{1, 0}));
     in.device_map = {0, 1, 1, 7};
-    EXPECT_EQ(refusal(in), "rank 1: the device map (--device-map, device_map) puts subdomain 3 on GPU 7, but rank 1 "
-                           "sees 2 GPUs (indices 0 to 1 on its node)");
+    EXPECT_EQ(refusal(in), "the device map (--device-map, device_map) puts subdomain 3 on GPU 7, but rank 1 sees 2 "
+                           "GPUs (indices 0 to 1 on its node)");
     // In one process the sentence names no rank.
     GpuChoiceInput one;
     one.subdomains = 2;
@@ -108,7 +108,7 @@ TEST(GpuChoice, TheDeviceMapDecidesAndAGpuARankLacksIsNamed) {
 }
 
 TEST(GpuChoice, NoGpuVisibleIsOneSentence) {
-    EXPECT_EQ(refusal(on_one_node(1, 2, 1, 0)), "rank 1: the CUDA backend was asked for, but no CUDA GPU is visible");
+    EXPECT_EQ(refusal(on_one_node(1, 2, 1, 0)), "the CUDA backend was asked for, but no CUDA GPU is visible");
     GpuChoiceInput one;
     EXPECT_EQ(refusal(one), "the CUDA backend was asked for, but no CUDA GPU is visible");
 }

@@ -148,7 +148,7 @@ if [ "$MPI_OK" = 1 ]; then
   np=$((GPUS + 1))
   refused "$np-ranks-on-$GPUS-gpus-without-share" "share-gpus" \
     "${MPIRUN[@]}" -np "$np" "$SPHBENCH" simulate "${TINY[@]}" "${CUDA[@]}" --devices "$np"
-  refused mpi-device-map-gpu-$MISSING_GPU "rank 1: the device map .* puts subdomain 1 on GPU $MISSING_GPU, but rank 1 sees" \
+  refused mpi-device-map-gpu-$MISSING_GPU "the device map .* puts subdomain 1 on GPU $MISSING_GPU, but rank 1 sees" \
     "${MPIRUN[@]}" -np 2 "$SPHBENCH" simulate "${TINY[@]}" "${CUDA[@]}" --devices 2 --device-map 0 "$MISSING_GPU" "${SHARE[@]}"
   refused mpi-gpu-direct-on-host "GPU-direct .*host backend" \
     "${MPIRUN[@]}" -np 2 "$SPHBENCH" simulate "${TINY[@]}" --devices 2 --backend host --gpu-direct

@@ -15,7 +15,9 @@ std::vector<int> choose_gpus(const GpuChoiceInput& in) {
     const bool mpi = in.ranks > 1;
     const std::string who = mpi ? "rank " + std::to_string(in.rank) : "this process";
     const int g = in.gpus_visible;
-    if (g < 1) throw InputError((mpi ? who + ": " : "") + "the CUDA backend was asked for, but no CUDA GPU is visible");
+    // (Under sphbench the rank at fault is named in front of every sentence, so only the
+    // device map's, which needs it mid-sentence, names it.)
+    if (g < 1) throw InputError("the CUDA backend was asked for, but no CUDA GPU is visible");
     if (in.ranks_on_node > g && !in.share)
         throw InputError(std::to_string(in.ranks_on_node) + " MPI ranks run on one node, which has " + gpus(g) +
                          ": start at most " + std::to_string(g) + " per node, or let ranks share GPUs with " +
@@ -28,7 +30,7 @@ std::vector<int> choose_gpus(const GpuChoiceInput& in) {
         for (int d = 0; d < in.subdomains; ++d) {
             const int sub = in.first_subdomain + d, gpu = in.device_map[sub];
             if (gpu < 0 || gpu >= g)
-                throw InputError((mpi ? who + ": " : "") + "the device map (--device-map, device_map) " +
+                throw InputError(std::string("the device map (--device-map, device_map) ") +
                                  "puts subdomain " + std::to_string(sub) + " on GPU " + std::to_string(gpu) + ", but " +
                                  who + " sees " + gpus(g) + " (indices 0 to " + std::to_string(g - 1) +
                                  (mpi ? " on its node)" : ")"));
