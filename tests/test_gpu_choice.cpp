@@ -81,7 +81,8 @@ TEST(GpuChoice, MoreRanksThanGpusIsRefusedUnlessSharingIsAsked) {
         in.share = true;
         EXPECT_EQ(choose_gpus(in), (std::vector<int>{r % 2, (r + 1) % 2})) << "rank " << r;
     }
-    // A device map that makes two ranks meet is sharing too: asked for, or refused.
+    // With a device map too, more ranks on the node than GPUs needs sharing asked for (a map
+    // that puts two ranks on one GPU of a node with enough GPUs is the map's to decide).
     in = on_one_node(1, 2, 1, 1);
     in.device_map = {0, 0};
     EXPECT_NE(refusal(in).find("--share-gpus"), std::string::npos);

@@ -4,6 +4,7 @@
 #
 #   tools/gpu-run.sh exec bash tools/mpi-cuda-check.sh OUT_DIR
 #
+# 0. CudaBackend.PinnedRankStagingCarriesPiecesBitwise: the staging alone, without MPI.
 # 1. `sphbench simulate` of a small dam break on the CUDA backend with 2 subdomains, in one
 #    process and under `mpirun -np 2` (with --share-gpus when the machine has one GPU), with
 #    paper 5.3's overlap and with --no-overlap: the snapshots of every MPI run must be bitwise
@@ -87,6 +88,17 @@ compare() {  # compare REFERENCE CANDIDATE
     fail "$2 against $1: $(cat "$OUT/compare-$2.log")"
   fi
 }
+
+note "--- 0. the pinned staging without MPI (sph_tests CudaBackend.PinnedRankStaging*)"
+if command -v sph_tests >/dev/null; then
+  if sph_tests --gtest_filter='CudaBackend.PinnedRankStaging*' >"$OUT/pinned-staging.log" 2>&1; then
+    note "pinned staging: $(grep -m1 -E '^\[  (PASSED|SKIPPED) \]' "$OUT/pinned-staging.log")"
+  else
+    fail "pinned staging (see $OUT/pinned-staging.log)"
+  fi
+else
+  note "SKIPPED: no sph_tests on PATH"
+fi
 
 note "--- 1. sphbench simulate, $BACKEND backend, 2 subdomains"
 simulate one-process-no-overlap "$SPHBENCH" simulate "${SCENE[@]}" --no-overlap
