@@ -88,15 +88,8 @@ std::string backend_name(BackendKind b) { return b == BackendKind::cuda ? "cuda"
 SolverOptions solver_options(const SettingMap& given) {
     const SettingMap complete = complete_solver_settings(given);
     const bool cuda_wanted = complete.at("backend") != "host";
-    SolverOptions s = to_solver_options(complete, cuda_wanted && cuda_backend_available());
-    if (s.backend == BackendKind::cuda) {
-        const int gpus = cuda_device_count();
-        for (int g : s.device_map)
-            if (g < 0 || g >= gpus)
-                throw InputError("--device-map: GPU " + std::to_string(g) + " is not on this machine, which has " +
-                                 std::to_string(gpus) + " GPU(s)");
-    }
-    return s;
+    // The device map's GPUs are checked by the simulation, rank by rank (each sees its node's).
+    return to_solver_options(complete, cuda_wanted && cuda_backend_available());
 }
 
 void check_output_folder(const std::string& flag, const std::string& path) {

@@ -16,7 +16,7 @@ namespace sph {
 // checked as the spec's key is and stored, in its normal form, in `given` under the key.
 void add_solver_options(CLI::App& cmd, SettingMap& given);
 // The given settings completed with the defaults; "auto" means CUDA when a GPU is present.
-// Throws InputError when the device map names a GPU this machine lacks.
+// (A device map naming a GPU a rank lacks is refused by the simulation: multi/gpu_choice.hpp.)
 SolverOptions solver_options(const SettingMap& given);
 std::string backend_name(BackendKind b);
 

@@ -76,6 +76,8 @@ ColumnTable<RunsRow> runs_table(const std::vector<PlannedRun>& runs) {
         // The setting as the spec gave it ("auto" too), as this table always had it.
         .add("backend", [](R r) { return r.run.solver_settings.at("backend"); })
         .add("device", [](R r) { return r.result.device; })
+        // How particles between MPI ranks travelled: "" in one process (multi/rank_staging.hpp).
+        .add("rank_transport", [](R r) { return r.result.rank_transport; })
         .add("particles", [whole](R r) { return whole(r.result.particles); })
         .add("fluid", [whole](R r) { return whole(r.result.fluid); })
         .add("boundary", [whole](R r) { return whole(r.result.boundary); })

@@ -18,8 +18,10 @@
 //     devices = 1                      #   X-slab subdomains (1..1024), on N GPUs, one, or the host
 //     gpu = 0                          #   GPU of a one-subdomain run (0..1023)
 //     device_map = [0, 1]              #   GPU of each subdomain; absent: subdomain d on GPU d mod GPUs
+//     share_gpus = false               #   MPI ranks of a node may share its GPUs
 //     balancer = "none"                #   "none", "simple", "every:K", "threshold" or "equal-time[:F]"
 //     transport = "auto"               #   "auto", "host", "peer", "staged" or "nccl"
+//     gpu_direct = false               #   GPU memory to a CUDA-aware MPI (checked; staged so far)
 //     cells_per_support = 1            #   1..4 (Smaller Cell)
 //     merge = false                    #   Cell Merging
 //     verlet = false                   #   Verlet lists

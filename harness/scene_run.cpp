@@ -59,6 +59,8 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
     res.device = sim.device_name();
     res.transport = sim.transport_name();
     if (!sim.transport_note().empty()) res.transport += " (" + sim.transport_note() + ")";
+    res.rank_transport = sim.rank_transport_name();
+    if (!sim.rank_transport_note().empty()) res.rank_transport += " (" + sim.rank_transport_note() + ")";
     res.bytes_allocated = sim.bytes_allocated();
 
     namespace fs = std::filesystem;
@@ -102,6 +104,7 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         meta.emplace_back("particles", std::to_string(res.particles));
         meta.emplace_back("device", res.device);
         if (!res.transport.empty()) meta.emplace_back("transport", res.transport);
+        if (!res.rank_transport.empty()) meta.emplace_back("rank_transport", res.rank_transport);
         if (!res.search_choice.empty()) meta.emplace_back("search_calibration", res.search_choice);
         loop.feed(step_csv.emplace(steps, out_path("_steps.csv"), meta, res.boundary));
     }

@@ -43,6 +43,9 @@ struct SceneRunResult {
     std::vector<std::string> files;  // what was written
     std::map<std::string, std::string> scene_settings;
     std::string transport;  // multi-subdomain runs: the transport, and why when it fell back
+    // MPI runs: how particles between ranks travelled ("host-memory", "staged-pinned"), and
+    // why when that is not what was asked; "" in one process.
+    std::string rank_transport;
     std::string search_choice;  // what calibration picked, with every trial's time
     std::vector<std::pair<std::string, double>> validation_summary;  // empty without validation
     std::string blow_up;  // with record_blow_up: what blew up, where; empty when the run finished

@@ -48,6 +48,7 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
     if (last.out_of_domain > 0)
         std::printf("warning: %zu fluid particles left the domain and were dropped\n", last.out_of_domain);
     if (!r.transport.empty()) std::printf("transport between subdomains: %s\n", r.transport.c_str());
+    if (!r.rank_transport.empty()) std::printf("rank_transport: %s\n", r.rank_transport.c_str());
     if (!r.search_choice.empty()) std::printf("search calibration (median step): %s\n", r.search_choice.c_str());
     for (const auto& [k, v] : r.validation_summary) std::printf("validation: %s = %.6g\n", k.c_str(), v);
     for (const auto& f : r.files) std::printf("wrote %s\n", f.c_str());

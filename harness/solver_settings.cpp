@@ -28,12 +28,20 @@ const std::vector<SolverSetting>& settings() {
         {"gpu", SettingKind::integer, "0", whole_from(0, 1023), {}, nullptr,
          "GPU index of a one-subdomain run on the CUDA backend", true},
         {"device_map", SettingKind::integer_list, "", whole_from(0, 1023), {}, nullptr,
-         "GPU of each subdomain, e.g. 0,1 (default: subdomain d on GPU d mod GPUs)", true},
+         "GPU of each subdomain, e.g. 0,1, among those its MPI rank sees on its node (default: subdomain d on GPU d "
+         "mod GPUs; under MPI each rank on GPUs of its own)",
+         true},
+        {"share_gpus", SettingKind::boolean, "false", {}, {}, nullptr,
+         "let MPI ranks of one node share its GPUs when they outnumber them (refused otherwise)", true},
         {"balancer", SettingKind::text, "none", {}, {}, check_balancer,
          "load balancing: none, simple, every:K or threshold (paper 5.2), or equal-time[:F] (moves as many slices as the measured rates call for)", true},
         {"transport", SettingKind::text, "auto", {}, {"auto", "host", "peer", "staged", "nccl"}, nullptr,
          "how particles travel between subdomains: auto, host, peer (GPU to GPU), staged (through host memory) or "
          "nccl",
+         true},
+        {"gpu_direct", SettingKind::boolean, "false", {}, {}, nullptr,
+         "between MPI ranks, GPU memory to a CUDA-aware MPI: checked and refused where the MPI library lacks CUDA "
+         "support (particles are staged through pinned host memory either way so far)",
          true},
         {"overlap", SettingKind::boolean, "true", {}, {}, nullptr,
          "the communication optimisation of paper 5.3 (several subdomains): boundary slices updated first and sent "
@@ -193,7 +201,9 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
         throw InputError("device_map: '" + map + "' names " + std::to_string(o.device_map.size()) + " GPU(s) for " +
                          std::to_string(o.subdomains) + " subdomain(s) (allowed: one GPU per subdomain)");
     o.balancer = c.at("balancer");
+    o.share_gpus = c.at("share_gpus") == "true";
     o.transport = parse_transport(c.at("transport"));
+    o.gpu_direct = c.at("gpu_direct") == "true";
     o.overlap = c.at("overlap") == "true";
     o.search.cells_per_support = std::stoi(c.at("cells_per_support"));
     o.search.merge = c.at("merge") == "true";

@@ -29,7 +29,8 @@ struct SolverSetting {
 };
 
 // The table, in the column order of runs.csv: backend, devices (X-slab subdomains), gpu (GPU
-// of a one-subdomain run), device_map (GPU of each subdomain), balancer, transport, overlap
+// of a one-subdomain run), device_map (GPU of each subdomain), share_gpus (MPI ranks sharing
+// a node's GPUs), balancer, transport, gpu_direct (GPU memory to MPI), overlap
 // (paper 5.3's communication hidden under the inner update), cells_per_support, merge, verlet, skin, rebuild_every, fixed_dt (0: CFL-limited), cfl (0:
 // the scene's), diffusion, precision.
 const std::vector<SolverSetting>& solver_settings_table();

@@ -8,6 +8,7 @@
 
 #include "backend/nvtx_range.hpp"
 #include "core/equation_of_state.hpp"
+#include "multi/gpu_choice.hpp"
 
 namespace sph {
 
@@ -130,9 +131,14 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
         throw InputError("the device map names " + std::to_string(options_.device_map.size()) + " GPUs for " +
                          std::to_string(n) + " subdomains");
     RankGroup& ranks = options_.ranks ? *options_.ranks : process_ranks();
-    if (ranks.size() > 1 && options_.backend != BackendKind::host)
-        throw InputError("MPI runs use the host backend so far (--backend host); " + std::to_string(ranks.size()) +
-                         " ranks were started with the CUDA backend");
+    // Refused here, before anything is allocated: GPU-direct that cannot be had.
+    const RankTransportChoice rank_transport = choose_rank_transport(
+        options_.backend, ranks.size(), options_.gpu_direct, ranks.cuda_aware(), ranks.library());
+    // Refused here too, before the slabs and any GPU memory: GPUs this rank does not have, or
+    // shares unasked.
+    const std::vector<int> gpus = options_.backend == BackendKind::cuda
+                                      ? subdomain_gpus(ranks, SubdomainPlacement(std::max(n, 1), ranks.size()))
+                                      : std::vector<int>{};
     // Slabs of about the same number of particles each; a slab keeps ghost-depth slices.
     domain_ = std::make_unique<SlabDomain>(grid_.view, n, options_.search.cells_per_support, options_.balancer, all,
                                            ranks, options_.overlap);
@@ -144,20 +150,32 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
     std::vector<ParticleArrays> parts = domain_->split() ? domain_->local_parts(all) : std::vector<ParticleArrays>(1);
     for (int d = 0; d < int(parts.size()); ++d) {
         const int g = domain_->first_local() + d;
-        if (options_.backend == BackendKind::host) {
-            subdomains_.push_back(make_host_subdomain(cfg, capacity));
-        } else {
-            int gpu = options_.device;
-            if (n > 1) gpu = options_.device_map.empty() ? g % std::max(1, cuda_device_count()) : options_.device_map[g];
-            subdomains_.push_back(make_cuda_subdomain(cfg, capacity, gpu));
-        }
+        if (options_.backend == BackendKind::host) subdomains_.push_back(make_host_subdomain(cfg, capacity));
+        else subdomains_.push_back(make_cuda_subdomain(cfg, capacity, gpus[d]));
         subdomains_.back()->upload(domain_->split() ? parts[d] : all);
         parts[d] = {};
         const std::string label = n == 1 ? subdomains_.back()->device_name()
                                          : "subdomain " + std::to_string(g) + " on " + subdomains_.back()->device_name();
         nvtx_name_device(d, label.c_str());
     }
-    domain_->connect(subdomains_, options_.transport);
+    domain_->connect(subdomains_, options_.transport, rank_transport);
+}
+
+// The GPU of each of this rank's subdomains (multi/gpu_choice.hpp): --gpu for one subdomain
+// without a device map; else the map, or this rank's share of its node's GPUs.
+std::vector<int> Simulation::subdomain_gpus(RankGroup& ranks, const SubdomainPlacement& placement) const {
+    if (options_.subdomains == 1 && options_.device_map.empty()) return {options_.device};
+    GpuChoiceInput in;
+    in.rank = ranks.rank();
+    in.ranks = ranks.size();
+    in.first_subdomain = placement.first(ranks.rank());
+    in.subdomains = placement.count(ranks.rank());
+    in.local_rank = ranks.local_rank();
+    in.ranks_on_node = ranks.local_size();
+    in.gpus_visible = cuda_device_count();
+    in.device_map = options_.device_map;
+    in.share = options_.share_gpus;
+    return choose_gpus(in);
 }
 
 double Simulation::next_dt() const {

@@ -30,7 +30,13 @@ struct SolverOptions {
     BackendKind backend = BackendKind::host;
     int device = 0;          // GPU of a one-subdomain run
     int subdomains = 1;      // X slabs (logical devices)
-    std::vector<int> device_map;  // GPU of each subdomain; empty: subdomain d on GPU d mod count
+    std::vector<int> device_map;  // GPU of each subdomain (among its rank's node's); empty: multi/gpu_choice.hpp
+    // MPI ranks of one node may share its GPUs (more ranks than GPUs); refused otherwise.
+    bool share_gpus = false;
+    // Hand GPU memory to a CUDA-aware MPI: checked (refused on the host backend, in one process
+    // and of an MPI without CUDA support); the particles are staged through pinned host memory
+    // either way so far (multi/rank_staging.hpp).
+    bool gpu_direct = false;
     std::string balancer = "none";  // none, simple, every:K, threshold, equal-time[:F]
     // The processes the subdomains are spread over (one rank holds a contiguous block of
     // them); nullptr: this process's group, process_ranks() (MPI when mpirun started it).
@@ -133,6 +139,10 @@ public:
     // when that is worth saying (a fallback).
     std::string transport_name() const { return domain_->transport_name(); }
     const std::string& transport_note() const { return domain_->transport_note(); }
+    // How particles between MPI ranks travel ("" in one process): "host-memory" or
+    // "staged-pinned", and why when that is not what was asked (GPU-direct).
+    std::string rank_transport_name() const { return domain_->rank_transport_name(); }
+    const std::string& rank_transport_note() const { return domain_->rank_transport_note(); }
     RankGroup& ranks() const { return domain_->ranks(); }
     // Overlapping (paper 5.3): how many slices beyond the neighbours' ghosts the last update's
     // boundary slices reached (at least 1; more when particles may move further in a step).
@@ -144,6 +154,7 @@ private:
     real verlet_skin() const;
     bool verlet_list_expired(double dt);
     void make_subdomains(const ParticleArrays& all);
+    std::vector<int> subdomain_gpus(RankGroup& ranks, const SubdomainPlacement& placement) const;
     void exchange_particles(long step);
     void settle_exchange(long step);
     void advance_overlapped(const TimeStep& rule, const StepStats& stats, long step);

@@ -3,11 +3,72 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
+#include "multi/rank_staging.hpp"
 #include "test_support.hpp"
 
 namespace sph {
 namespace {
+
+// The staging of MPI runs (multi/cuda_rank_staging.cu) without MPI: pieces of a GPU subdomain's
+// sorted particles reach pinned host memory bitwise, and pieces unpacked into pinned memory
+// reach its receive area at their offsets, ready for the subdomain's next work.
+TEST(CudaBackend, PinnedRankStagingCarriesPiecesBitwise) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const Scene s = test::small_dambreak("0.05");
+    const Grid g = make_grid(s.lo.data(), s.hi.data(), s.params.support, 1, s.periodic.data());
+    const SubdomainConfig cfg{s.params, g.view, s.kernel, true, SearchOptions{}};
+    std::vector<std::unique_ptr<Subdomain>> subs;
+    subs.push_back(make_cuda_subdomain(cfg, 2 * s.size(), 0));
+    subs[0]->upload(make_particle_arrays(s, g));
+    subs[0]->sort_by_cell();
+    const ParticleArrays before = subs[0]->download();
+    ASSERT_GT(before.size(), 600u);
+    auto same = [](const ParticleSpan& span, const ParticleArrays& a, std::size_t at) {
+        const std::size_t n = span.count;
+        return std::memcmp(span.pos, &a.pos[at], n * sizeof(real4)) == 0 &&
+               std::memcmp(span.velrho, &a.velrho[at], n * sizeof(real4)) == 0 &&
+               std::memcmp(span.velrho_prev, &a.velrho_prev[at], n * sizeof(real4)) == 0 &&
+               std::memcmp(span.cell, &a.cell[at], n * 4) == 0 && std::memcmp(span.id, &a.id[at], n * 4) == 0;
+    };
+    const auto staging = make_rank_staging(RankTransport::staged_pinned, subs);
+    const std::vector<StagedPiece> out_pieces = {{0, 10, 100}, {0, 500, 50}};
+    const std::vector<ParticleSpan> out = staging->stage_out(subs, out_pieces);
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_EQ(out[0].device, -1);
+    EXPECT_TRUE(same(out[0], before, 10));
+    EXPECT_TRUE(same(out[1], before, 500));
+    // Back in, swapped: [500, 550) to the area's start, [10, 110) after it.
+    const std::vector<ParticleSpan> areas = {subs[0]->receive_area(150)};
+    const std::vector<StagedPiece> in_pieces = {{0, 0, 50}, {0, 50, 100}};
+    const std::vector<ParticleSpan> in = staging->stage_in(in_pieces, areas);
+    ASSERT_EQ(in.size(), 2u);
+    ParticleArrays expected;
+    for (const auto& [at, n] : {std::pair<std::size_t, std::size_t>{500, 50}, {10, 100}}) {
+        expected.pos.insert(expected.pos.end(), &before.pos[at], &before.pos[at] + n);
+        expected.velrho.insert(expected.velrho.end(), &before.velrho[at], &before.velrho[at] + n);
+        expected.velrho_prev.insert(expected.velrho_prev.end(), &before.velrho_prev[at], &before.velrho_prev[at] + n);
+        expected.cell.insert(expected.cell.end(), &before.cell[at], &before.cell[at] + n);
+        expected.id.insert(expected.id.end(), &before.id[at], &before.id[at] + n);
+    }
+    for (int i = 0; i < 2; ++i) {
+        const ParticleSpan& src = out[1 - i];
+        const ParticleSpan& dst = in[i];
+        std::memcpy(dst.pos, src.pos, src.count * sizeof(real4));
+        std::memcpy(dst.velrho, src.velrho, src.count * sizeof(real4));
+        std::memcpy(dst.velrho_prev, src.velrho_prev, src.count * sizeof(real4));
+        std::memcpy(dst.cell, src.cell, src.count * 4);
+        std::memcpy(dst.id, src.id, src.count * 4);
+    }
+    staging->deliver_in(subs, in_pieces, areas);
+    subs[0]->accept_received();  // on the subdomain's stream, ordered after the copies
+    const ParticleArrays after = subs[0]->download();
+    ASSERT_EQ(after.size(), before.size() + 150);
+    EXPECT_TRUE(same({expected.pos.data(), expected.velrho.data(), expected.velrho_prev.data(), expected.cell.data(),
+                      expected.id.data(), 150, -1, nullptr},
+                     after, before.size()));
+}
 
 TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";

@@ -317,5 +317,37 @@ TEST_F(SettingsTableTest, AnOutputFolderThatIsAFileIsRefusedBeforeAnyRun) {
     EXPECT_NO_THROW(check_output_folder("--out", (dir_ / "new" / "deeper").string()));
 }
 
+// Issue 13's MPI switches: --share-gpus and --gpu-direct, spec keys share_gpus and gpu_direct,
+// off by default; a value that is not a boolean is refused by name; GPU-direct on the host
+// backend or in one process is one sentence and bad input.
+TEST_F(SettingsTableTest, TheMpiGpuSwitchesAreKeysOfTheTable) {
+    for (const char* key : {"share_gpus", "gpu_direct"}) {
+        const SolverSetting* s = find_solver_setting(key);
+        ASSERT_NE(s, nullptr) << key;
+        EXPECT_EQ(s->kind, SettingKind::boolean) << key;
+        EXPECT_STREQ(s->fallback, "false") << key;
+    }
+    EXPECT_EQ(setting_flag(*find_solver_setting("share_gpus")), "--share-gpus");
+    EXPECT_EQ(setting_flag(*find_solver_setting("gpu_direct")), "--gpu-direct");
+    SettingMap given;
+    EXPECT_EQ(cli_error({"--share-gpus", "--gpu-direct"}, given), "");
+    const SolverOptions o = to_solver_options(complete_solver_settings(given), false);
+    EXPECT_TRUE(o.share_gpus);
+    EXPECT_TRUE(o.gpu_direct);
+    const SolverOptions d = to_solver_options(complete_solver_settings({}), false);
+    EXPECT_FALSE(d.share_gpus);
+    EXPECT_FALSE(d.gpu_direct);
+    std::string stored;
+    EXPECT_EQ(spec_error("share_gpus", "true", stored), "");
+    EXPECT_EQ(stored, "true");
+    EXPECT_NE(spec_error("gpu_direct", "\"maybe\"", stored), "");
+    EXPECT_EQ(set_error("share_gpus", "maybe"), "--set share_gpus: 'maybe' is not true or false");
+    std::string m;
+    EXPECT_EQ(sphbench({"simulate", "tank", "--backend", "host", "--devices", "2", "--gpu-direct", "--quiet"}, m),
+              exit_usage);
+    EXPECT_NE(m.find("this run uses the host backend"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+}
+
 }  // namespace
 }  // namespace sph

@@ -26,6 +26,8 @@ pack)
   cp build-gpu/harness/sphbench build-gpu/tests/sph_tests "$CARRY/bin/"
   [ -x build-gpu/bench/sph_bench ] && cp build-gpu/bench/sph_bench "$CARRY/bin/"
   [ -x build-gpu/bench/sph_skip_bench ] && cp build-gpu/bench/sph_skip_bench "$CARRY/bin/"
+  # MPI runs against one process, every step (tools/mpi-cuda-check.sh; built where MPI is found).
+  [ -x build-gpu/tests/sph_mpi_equivalence ] && cp build-gpu/tests/sph_mpi_equivalence "$CARRY/bin/"
   # F64=1: also the float64 sphbench (the accuracy sweep's precision = "float64" runs).
   if [ "${F64:-0}" = 1 ]; then
     cmake -S . -B build-gpu-f64 -DCMAKE_BUILD_TYPE=Release -DCMAKE_CUDA_ARCHITECTURES=90 -DSPH_DOUBLE=ON \

@@ -2,6 +2,9 @@
 // GPU subdomain staged); collectives keep rank order, so what every rank computes from them
 // is the same, bit for bit.
 #include <mpi.h>
+#if __has_include(<mpi-ext.h>)
+#include <mpi-ext.h>  // Open MPI's extensions: MPIX_Query_cuda_support
+#endif
 
 #include <algorithm>
 #include <cstdlib>
@@ -45,6 +48,13 @@ public:
         // Errors come back as codes, so that a failed call is reported in one sentence; a rank
         // that dies is caught by mpirun, which stops the others and names it.
         MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+        // The ranks sharing this rank's node (its memory, and so its GPUs).
+        MPI_Comm node = MPI_COMM_NULL;
+        check(MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node),
+              "MPI_Comm_split_type");
+        MPI_Comm_rank(node, &local_rank_);
+        MPI_Comm_size(node, &local_size_);
+        MPI_Comm_free(&node);
     }
     ~MpiRankGroup() override {
         int done = 0;
@@ -53,8 +63,24 @@ public:
     }
     int rank() const override { return rank_; }
     int size() const override { return size_; }
-    std::string description() const override {
-        return "MPI, " + std::to_string(size_) + " ranks, particles staged through host memory";
+    int local_rank() const override { return local_rank_; }
+    int local_size() const override { return local_size_; }
+    std::string description() const override { return "MPI, " + std::to_string(size_) + " ranks"; }
+    // Open MPI says at compile time (MPIX_CUDA_AWARE_SUPPORT) and at run time
+    // (MPIX_Query_cuda_support) whether it takes GPU memory; another library is taken not to.
+    bool cuda_aware() const override {
+#if defined(MPIX_CUDA_AWARE_SUPPORT)
+        return MPIX_Query_cuda_support() == 1;
+#else
+        return false;
+#endif
+    }
+    std::string library() const override {
+        char text[MPI_MAX_LIBRARY_VERSION_STRING] = {};
+        int len = 0;
+        MPI_Get_library_version(text, &len);
+        const std::string all(text, std::size_t(len));
+        return all.substr(0, all.find_first_of(",\n"));  // "Open MPI v4.1.4"
     }
 
     std::vector<Bytes> allgather(const Bytes& mine) override {
@@ -99,7 +125,7 @@ private:
         return parts;
     }
 
-    int rank_ = 0, size_ = 1;
+    int rank_ = 0, size_ = 1, local_rank_ = 0, local_size_ = 1;
 };
 
 }  // namespace

@@ -4,7 +4,9 @@
 //   peer    GPU to GPU copies (cudaMemcpyPeerAsync over NVLink or PCIe; on one GPU a local copy)
 //   staged  through page-locked host memory, for GPUs that cannot reach each other
 //   nccl    NCCL send/receive, one rank per GPU (libnccl is loaded when asked for)
-// An MPI transport for runs across nodes would implement the same interface.
+// These carry particles between the subdomains of one process (or MPI rank); between ranks,
+// SlabExchange sends MPI messages, packed from host memory that a RankStaging provides
+// (rank_staging.hpp: in place on the host, through pinned memory for GPU subdomains).
 #include <memory>
 #include <string>
 #include <vector>

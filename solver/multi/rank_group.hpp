@@ -18,8 +18,16 @@ public:
     virtual ~RankGroup() = default;
     virtual int rank() const = 0;
     virtual int size() const = 0;
-    // For the run's metadata: how particles travel between ranks.
+    // For the run's metadata: "one process" or "MPI, R ranks".
     virtual std::string description() const = 0;
+    // This rank among the ranks of its node (shared memory), and how many run there: which
+    // GPUs of the node a rank takes (multi/gpu_choice.hpp).
+    virtual int local_rank() const { return 0; }
+    virtual int local_size() const { return 1; }
+    // Whether the MPI library takes GPU memory in its messages (CUDA-aware), and its name for
+    // messages that say it does not.
+    virtual bool cuda_aware() const { return false; }
+    virtual std::string library() const { return "no MPI library (one process)"; }
     // Every rank's bytes (sizes may differ), in rank order; a collective.
     virtual std::vector<Bytes> allgather(const Bytes& mine) = 0;
     // sends[r] goes to rank r (sends[rank()] stays here); returns what each rank sent to this

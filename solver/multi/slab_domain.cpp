@@ -49,13 +49,16 @@ std::vector<ParticleArrays> SlabDomain::local_parts(const ParticleArrays& all) c
     return parts;
 }
 
-void SlabDomain::connect(std::vector<std::unique_ptr<Subdomain>>& subs, TransportKind kind) {
+void SlabDomain::connect(std::vector<std::unique_ptr<Subdomain>>& subs, TransportKind kind,
+                         const RankTransportChoice& rank_transport) {
     if (!split()) return;
+    rank_transport_ = rank_transport;
     for (int d = 0; d < int(subs.size()); ++d) {
         const int g = first_local() + d;
         subs[d]->set_owned_cells(first_cell(slabs_.begin(g)), first_cell(slabs_.end(g)));
     }
-    exchange_ = std::make_unique<SlabExchange>(grid_, ghost_slices_, make_transport(kind, subs, transport_note_));
+    exchange_ = std::make_unique<SlabExchange>(grid_, ghost_slices_, make_transport(kind, subs, transport_note_),
+                                               make_rank_staging(rank_transport.kind, subs));
 }
 
 void SlabDomain::drop_ghosts(int local, Subdomain& sub) const {

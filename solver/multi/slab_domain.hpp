@@ -15,6 +15,7 @@
 #include "multi/load_balancer.hpp"
 #include "multi/particle_transport.hpp"
 #include "multi/rank_group.hpp"
+#include "multi/rank_staging.hpp"
 #include "multi/slab_decomposition.hpp"
 #include "multi/slab_exchange.hpp"
 #include "multi/subdomain_placement.hpp"
@@ -39,8 +40,10 @@ public:
     // This rank's share of `all`: one ParticleArrays per local subdomain (out-of-domain
     // particles go to subdomain 0).
     std::vector<ParticleArrays> local_parts(const ParticleArrays& all) const;
-    // After upload: owned cells set and the transport chosen.
-    void connect(std::vector<std::unique_ptr<Subdomain>>& subs, TransportKind kind);
+    // After upload: owned cells set, the transport chosen, and the staging of particles that
+    // go to other ranks (rank_transport: choose_rank_transport's, with its note).
+    void connect(std::vector<std::unique_ptr<Subdomain>>& subs, TransportKind kind,
+                 const RankTransportChoice& rank_transport = {});
 
     // Drops the ghosts of local subdomain `local` (the exchange needs every particle held once).
     void drop_ghosts(int local, Subdomain& sub) const;
@@ -96,9 +99,12 @@ public:
     std::string transport_name() const {
         if (!exchange_) return "";
         if (ranks_.size() == 1) return exchange_->transport().name();
-        return exchange_->transport().name() + " within a rank, MPI between ranks";
+        return exchange_->transport().name() + " within a rank, MPI between ranks (" + rank_transport_name() + ")";
     }
     const std::string& transport_note() const { return transport_note_; }
+    // How particles between ranks travel ("" in one process): "host-memory", "staged-pinned".
+    std::string rank_transport_name() const { return exchange_ ? rank_transport_label(rank_transport_.kind) : ""; }
+    const std::string& rank_transport_note() const { return rank_transport_.note; }
 
 private:
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells_; }
@@ -114,6 +120,7 @@ private:
     std::unique_ptr<LoadBalancer> balancer_;
     std::unique_ptr<SlabExchange> exchange_;
     std::string transport_note_;
+    RankTransportChoice rank_transport_;
     bool overlap_ = false;
     bool in_flight_ = false;
     int reach_ = 1;

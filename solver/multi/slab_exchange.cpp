@@ -9,7 +9,8 @@ namespace sph {
 namespace {
 
 // A transfer's five arrays, one after another, in host memory (pos, velrho, velrho_prev,
-// cell, id): what a message between ranks carries.
+// cell, id): what a message between ranks carries. The spans are host memory (a host
+// subdomain's own, or what the RankStaging staged).
 void pack(Bytes& out, const ParticleSpan& src, std::size_t count) {
     auto put = [&](const auto* p) {
         const std::size_t at = out.size(), bytes = count * sizeof(*p);
@@ -23,11 +24,11 @@ void pack(Bytes& out, const ParticleSpan& src, std::size_t count) {
     put(src.id);
 }
 
-std::size_t unpack(const Bytes& in, std::size_t at, const ParticleSpan& dst, std::size_t offset, std::size_t count) {
+std::size_t unpack(const Bytes& in, std::size_t at, const ParticleSpan& dst, std::size_t count) {
     auto get = [&](auto* p) {
         const std::size_t bytes = count * sizeof(*p);
         if (at + bytes > in.size()) throw RunError("an MPI particle message is shorter than its transfer sizes");
-        std::memcpy(p + offset, in.data() + at, bytes);
+        std::memcpy(p, in.data() + at, bytes);
         at += bytes;
     };
     get(dst.pos);
@@ -123,7 +124,8 @@ ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& su
     std::vector<ParticleSpan> areas;
     for (int d = 0; d < local; ++d) areas.push_back(subs[d]->receive_area(incoming[first_local + d]));
     std::vector<ParticleTransfer> transfers;  // between this rank's subdomains, in local indices
-    std::vector<Bytes> sends(ranks.size());
+    std::vector<StagedPiece> outgoing;        // to other ranks, in packing order: source, then destination
+    std::vector<int> outgoing_rank;
     for (int g = first_local; g < first_local + local; ++g)
         for (int k = 0; k < n; ++k) {
             const TransferSize& t = sizes[std::size_t(g) * n + k];
@@ -131,26 +133,39 @@ ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& su
             if (is_local(k)) {
                 transfers.push_back({g - first_local, k - first_local, t.first, t.count, offset[std::size_t(g) * n + k]});
             } else {
-                if (subs[g - first_local]->device() >= 0)
-                    throw RunError("particles of a GPU subdomain cannot go to another rank yet (MPI runs use the host backend)");
-                pack(sends[placement.rank_of(k)], subs[g - first_local]->particles(t.first, t.count), t.count);
+                outgoing.push_back({g - first_local, t.first, t.count});
+                outgoing_rank.push_back(placement.rank_of(k));
             }
         }
     overlapped ? transport_->begin_delivery(subs, transfers, areas) : transport_->deliver(subs, transfers, areas);
-    if (ranks.size() > 1) {
-        const std::vector<Bytes> received = ranks.exchange(sends);
-        // Each sender packed its transfers by source subdomain, then destination: read them so.
-        for (int r = 0; r < ranks.size(); ++r) {
-            if (r == me) continue;
-            std::size_t at = 0;
-            for (int g = placement.first(r); g < placement.first(r) + placement.count(r); ++g)
-                for (int k = first_local; k < first_local + local; ++k) {
-                    const TransferSize& t = sizes[std::size_t(g) * n + k];
-                    if (t.count) at = unpack(received[r], at, areas[k - first_local], offset[std::size_t(g) * n + k], t.count);
-                }
-            if (at != received[r].size()) throw RunError("an MPI particle message is longer than its transfer sizes");
-        }
+    if (ranks.size() == 1) return c;
+    if (!staging_) throw RunError("an exchange between MPI ranks has no staging for its particles");
+    std::vector<Bytes> sends(ranks.size());
+    const std::vector<ParticleSpan> out = staging_->stage_out(subs, outgoing);
+    for (std::size_t i = 0; i < outgoing.size(); ++i) pack(sends[outgoing_rank[i]], out[i], outgoing[i].count);
+    const std::vector<Bytes> received = ranks.exchange(sends);
+    // Each sender packed its transfers by source subdomain, then destination: read them so.
+    std::vector<StagedPiece> incoming_pieces;
+    std::vector<int> incoming_rank;
+    for (int r = 0; r < ranks.size(); ++r) {
+        if (r == me) continue;
+        for (int g = placement.first(r); g < placement.first(r) + placement.count(r); ++g)
+            for (int k = first_local; k < first_local + local; ++k) {
+                const TransferSize& t = sizes[std::size_t(g) * n + k];
+                if (t.count == 0) continue;
+                incoming_pieces.push_back({k - first_local, offset[std::size_t(g) * n + k], t.count});
+                incoming_rank.push_back(r);
+            }
     }
+    const std::vector<ParticleSpan> in = staging_->stage_in(incoming_pieces, areas);
+    std::vector<std::size_t> at(ranks.size(), 0);
+    for (std::size_t i = 0; i < incoming_pieces.size(); ++i) {
+        const int r = incoming_rank[i];
+        at[r] = unpack(received[r], at[r], in[i], incoming_pieces[i].count);
+    }
+    for (int r = 0; r < ranks.size(); ++r)
+        if (r != me && at[r] != received[r].size()) throw RunError("an MPI particle message is longer than its transfer sizes");
+    staging_->deliver_in(subs, incoming_pieces, areas);
     return c;
 }
 

@@ -13,13 +13,16 @@
 // Subdomains may live on several ranks (SubdomainPlacement). Every rank learns the whole
 // matrix of transfer sizes by one allgather, so receive areas are laid out by sender in
 // subdomain order on every rank exactly as in one process; transfers between subdomains of
-// one rank go through the ParticleTransport, the others through the RankGroup.
+// one rank go through the ParticleTransport, the others through the RankGroup, their
+// particles staged between the subdomains and the messages' host memory by the RankStaging
+// (in place on the host, through pinned memory for GPU subdomains).
 #include <memory>
 #include <vector>
 
 #include "backend/subdomain.hpp"
 #include "multi/particle_transport.hpp"
 #include "multi/rank_group.hpp"
+#include "multi/rank_staging.hpp"
 #include "multi/slab_decomposition.hpp"
 #include "multi/subdomain_placement.hpp"
 
@@ -52,8 +55,10 @@ BoundaryArea boundary_area(const SlabDecomposition& now, const SlabDecomposition
 
 class SlabExchange {
 public:
-    SlabExchange(const GridView& grid, int ghost_slices, std::unique_ptr<ParticleTransport> transport)
-        : grid_(grid), ghost_slices_(ghost_slices), transport_(std::move(transport)) {}
+    // `staging` may be null in a run of one process (nothing goes to another rank).
+    SlabExchange(const GridView& grid, int ghost_slices, std::unique_ptr<ParticleTransport> transport,
+                 std::unique_ptr<RankStaging> staging = nullptr)
+        : grid_(grid), ghost_slices_(ghost_slices), transport_(std::move(transport)), staging_(std::move(staging)) {}
 
     // `subs` are this rank's subdomains (placement.first(ranks.rank()) onward). They must be
     // sorted and hold no ghosts. Afterwards each holds its owned particles, ghost copies of
@@ -79,7 +84,10 @@ public:
     // owned cells: the state exchange() leaves, bitwise. Returns the received particles it
     // now owns.
     std::size_t settle(Subdomain& sub, int g, const SlabDecomposition& next);
-    void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int local) { transport_->mark_ready(subs, local); }
+    void mark_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int local) {
+        transport_->mark_ready(subs, local);
+        if (staging_) staging_->mark_ready(subs, local);
+    }
     double last_delivery_ms() { return transport_->last_delivery_ms(); }  // ParticleTransport's
 
     std::uint32_t slice_cells() const { return std::uint32_t(grid_.ny) * std::uint32_t(grid_.nz); }
@@ -92,13 +100,16 @@ private:
     };
     // Lays out the receive areas for the whole transfer matrix (row g: what g sends, in
     // subdomain order on every rank) and carries this rank's transfers: the transport within
-    // the rank (begin_delivery when overlapped, else deliver), MPI messages between ranks.
+    // the rank (begin_delivery when overlapped, else deliver), MPI messages between ranks
+    // (staged out before the message, in after it; in the receive areas when this returns,
+    // and each receiver's later work ordered after them).
     ExchangeCounters carry(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<TransferSize>& mine,
                            RankGroup& ranks, const SubdomainPlacement& placement, bool overlapped);
 
     GridView grid_;
     int ghost_slices_;
     std::unique_ptr<ParticleTransport> transport_;
+    std::unique_ptr<RankStaging> staging_;
 };
 
 // Bytes one particle occupies in a transfer (position, velocity and density, cell, id).

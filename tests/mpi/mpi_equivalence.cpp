@@ -4,7 +4,9 @@
 // particle (by id) must have bitwise the same position, velocity and density, each id held
 // once, and the time steps must agree. Arguments: subdomains, balancer, steps.
 // Exit 0 when all agree; 1, with the first difference, otherwise (every rank sees the same
-// gathered snapshots, so every rank exits the same way).
+// gathered snapshots, so every rank exits the same way). Words after the three arguments:
+// no-overlap (the MPI run without paper 5.3's order), cuda (both runs on the CUDA backend;
+// tools/mpi-cuda-check.sh runs it on a GPU machine), share-gpus (ranks may share a GPU).
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -41,8 +43,16 @@ bool same_or_both_nan(const State& a, const State& b) {
 
 int main(int argc, char** argv) {
     auto mpi = sph::make_mpi_rank_group(argc, argv);
-    if (argc != 4 && !(argc == 5 && std::string(argv[4]) == "no-overlap")) {
-        std::fprintf(stderr, "usage: mpirun -np R mpi_equivalence SUBDOMAINS BALANCER STEPS [no-overlap]\n");
+    bool overlap = true, cuda = false, share = false, usage = argc < 4;
+    for (int i = 4; i < argc; ++i) {
+        const std::string w = argv[i];
+        if (w == "no-overlap") overlap = false;
+        else if (w == "cuda") cuda = true;
+        else if (w == "share-gpus") share = true;
+        else usage = true;
+    }
+    if (usage) {
+        std::fprintf(stderr, "usage: mpirun -np R mpi_equivalence SUBDOMAINS BALANCER STEPS [no-overlap] [cuda] [share-gpus]\n");
         return 2;
     }
     const int subdomains = std::atoi(argv[1]);
@@ -56,7 +66,9 @@ int main(int argc, char** argv) {
         distributed.subdomains = subdomains;
         distributed.balancer = balancer;
         distributed.ranks = mpi.get();
-        distributed.overlap = argc == 4;  // paper 5.3's order unless no-overlap
+        distributed.overlap = overlap;  // paper 5.3's order unless no-overlap
+        distributed.backend = cuda ? sph::BackendKind::cuda : sph::BackendKind::host;
+        distributed.share_gpus = share;
         sph::SolverOptions reference = distributed;
         reference.ranks = alone.get();
         reference.overlap = false;  // the order without overlap, in one process
@@ -86,10 +98,11 @@ int main(int argc, char** argv) {
             }
         }
         if (mpi->rank() == 0)
-            std::printf("%d ranks, %d subdomains, balancer %s, overlap %s: %ld steps bitwise equal to one process "
-                        "without overlap; %ld slices moved, %llu particles migrated\n",
-                        mpi->size(), subdomains, balancer.c_str(), distributed.overlap ? "on" : "off",
-                        code ? 0L : steps, moved, migrated);
+            std::printf("%d ranks, %d subdomains, %s backend, balancer %s, overlap %s: %ld steps bitwise equal to one "
+                        "process without overlap; %ld slices moved, %llu particles migrated; rank_transport %s\n",
+                        mpi->size(), subdomains, cuda ? "cuda" : "host", balancer.c_str(),
+                        distributed.overlap ? "on" : "off", code ? 0L : steps, moved, migrated,
+                        b.rank_transport_name().c_str());
         if (code == 0 && balancer != "none" && moved == 0) {
             std::fprintf(stderr, "the balancer never moved a slice, so no repartition was tested\n");
             code = 1;
