@@ -92,7 +92,7 @@ compare() {  # compare REFERENCE CANDIDATE
 note "--- 0. the pinned staging without MPI (sph_tests CudaBackend.PinnedRankStaging*)"
 if command -v sph_tests >/dev/null; then
   if sph_tests --gtest_filter='CudaBackend.PinnedRankStaging*' >"$OUT/pinned-staging.log" 2>&1; then
-    note "pinned staging: $(grep -m1 -E '^\[  (PASSED|SKIPPED) \]' "$OUT/pinned-staging.log")"
+    note "pinned staging: $(grep -m1 -E '^\[ +(PASSED|SKIPPED) +\]' "$OUT/pinned-staging.log")"
   else
     fail "pinned staging (see $OUT/pinned-staging.log)"
   fi
