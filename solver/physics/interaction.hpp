@@ -70,7 +70,7 @@ struct PairBody {
           visc_coef(p_.alpha * p_.h * p_.c0), laminar_coef(4 * p_.nu * p_.mass),
           hydrostatic_drho((p_.rho0 / (p_.c0 * p_.c0)) * p_.gravity) {}
 
-    SPH_HD PairTerms terms(const ParticleSide& a, std::uint32_t j, const real4& vr_j, const real3& rij, real r2) const {
+    SPH_HD_INLINE PairTerms terms(const ParticleSide& a, std::uint32_t j, const real4& vr_j, const real3& rij, real r2) const {
         const bool fluid_j = !is_boundary(vr_j);
         const real fac = kernel.grad_factor(sqrt_r(r2));
         PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij)};  // m (v_ij . r_ij) F, grad W = r_ij F
@@ -108,7 +108,7 @@ struct PairTotals {
     bool fluid_i;
     real3 acc{0, 0, 0};
     real drho = 0;
-    SPH_HD void accumulate(const PairTerms& t) {
+    SPH_HD_INLINE void accumulate(const PairTerms& t) {
         if (fluid_i) {
             drho += t.drho;
             acc += t.acc;
@@ -130,13 +130,13 @@ struct PairSums {
     SPH_HD PairSums(std::uint32_t i, const ForceInputs& in, const PhysicsParams& p, const Kernel& k)
         : body(in, p, k), side(particle_side(in, i)), totals{side.fluid()} {}
 
-    SPH_HD void add(std::uint32_t j, const real3& rij, real r2) {
+    SPH_HD_INLINE void add(std::uint32_t j, const real3& rij, real r2) {
         const PhysicsParams& p = body.p;
         if (r2 >= p.support2 || r2 <= real(1e-18) * p.support2) return;  // outside, or itself
         add_neighbour(j, rij, r2);
     }
     // add() for a candidate already known to lie inside the support (and not to be i).
-    SPH_HD void add_neighbour(std::uint32_t j, const real3& rij, real r2) {
+    SPH_HD_INLINE void add_neighbour(std::uint32_t j, const real3& rij, real r2) {
         const real4 vr_j = body.in.velrho[j];
         if (!totals.fluid_i && is_boundary(vr_j)) return;  // boundary-boundary pairs do nothing
         totals.accumulate(body.terms(side, j, vr_j, rij, r2));
