@@ -30,7 +30,10 @@ struct SearchWithRepeatedPairs : Base {
             visit(j, dx, dy, dz);
             if (++visited == 10) {
                 visited = 0;
-                visit(j, dx, dy, dz);
+                // j through a volatile: with the pair loop inlined (SPH_HD_INLINE), g++ would
+                // otherwise reuse the first visit's loads and arithmetic for the second.
+                volatile std::uint32_t again = j;
+                visit(again, dx, dy, dz);
             }
         });
     }
