@@ -94,6 +94,17 @@ struct RangeCase {
 };
 class StencilFluidCells : public ::testing::TestWithParam<RangeCase> {};
 
+std::string range_case_name(const ::testing::TestParamInfo<RangeCase>& info) {
+    return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
+           (info.param.periodic ? "_periodic" : "_open");
+}
+
+// One visited candidate with its cell offset, comparable as a whole.
+using Visit = std::vector<std::array<std::uint32_t, 4>>;
+std::array<std::uint32_t, 4> entry(std::uint32_t j, int dx, int dy, int dz) {
+    return {j, std::uint32_t(dx + 8), std::uint32_t(dy + 8), std::uint32_t(dz + 8)};
+}
+
 // A sorted random scene (half boundary particles) with its cell starts and each cell's first
 // fluid particle, as the GPU's force loop reads them.
 struct SortedCells {
@@ -137,10 +148,6 @@ TEST_P(StencilFluidCells, GiveBoundaryParticlesExactlyVisitsFluidCandidates) {
     for (std::uint32_t c = 0; c < g.view.cell_count(); ++c)
         for (std::uint32_t m = fluid_begin[c]; m < start[c + 1]; ++m) ASSERT_FALSE(is_boundary(a.velrho[m])) << "cell " << c;
 
-    using Visit = std::vector<std::array<std::uint32_t, 4>>;
-    auto entry = [](std::uint32_t j, int dx, int dy, int dz) {
-        return std::array<std::uint32_t, 4>{j, std::uint32_t(dx + 8), std::uint32_t(dy + 8), std::uint32_t(dz + 8)};
-    };
     std::size_t boundary_particles = 0, skipped = 0;
     dispatch_search(opt, [&](auto tag) {
         using Search = typename decltype(tag)::type;
@@ -172,10 +179,7 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, StencilFluidCells,
                                            RangeCase{2, false, false}, RangeCase{2, true, false},
                                            RangeCase{4, true, false}, RangeCase{1, false, true},
                                            RangeCase{1, true, true}, RangeCase{2, true, true}),
-                         [](const auto& info) {
-                             return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
-                                    (info.param.periodic ? "_periodic" : "_open");
-                         });
+                         range_case_name);
 
 // The GPU's force loop takes each stencil range through add_range_by_hit_masks (test 32
 // candidates, then run the pair body over the hits): it must hand the pair sums exactly the
@@ -252,10 +256,7 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, HitMaskTraversal,
                                            RangeCase{2, true, false}, RangeCase{4, true, false},
                                            RangeCase{1, false, true}, RangeCase{1, true, true},
                                            RangeCase{2, false, true}),
-                         [](const auto& info) {
-                             return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
-                                    (info.param.periodic ? "_periodic" : "_open");
-                         });
+                         range_case_name);
 
 // The GPU's compacted force loop walks every lane's stencil in step
 // (CellSearch::visit_ranges_in_step): the same number of ranges around every cell, empty
@@ -270,10 +271,6 @@ TEST_P(StepwiseRanges, GiveEachParticleItsCandidatesInVisitOrder) {
     const SortedCells sc = sorted_cells(rc, opt, 9191u + rc.n * 4 + rc.merge * 2 + rc.periodic);
     const GridView& g = sc.grid.view;
     const ParticleArrays& a = sc.a;
-    using Visit = std::vector<std::array<std::uint32_t, 4>>;
-    auto entry = [](std::uint32_t j, int dx, int dy, int dz) {
-        return std::array<std::uint32_t, 4>{j, std::uint32_t(dx + 8), std::uint32_t(dy + 8), std::uint32_t(dz + 8)};
-    };
     std::size_t candidates = 0, dropped_walls = 0, empty_ranges = 0;
     dispatch_search(opt, [&](auto tag) {
         using Search = typename decltype(tag)::type;
@@ -325,10 +322,7 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, StepwiseRanges,
                                            RangeCase{2, false, false}, RangeCase{2, true, false},
                                            RangeCase{3, true, false}, RangeCase{1, false, true},
                                            RangeCase{2, false, true}),
-                         [](const auto& info) {
-                             return "n" + std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
-                                    (info.param.periodic ? "_periodic" : "_open");
-                         });
+                         range_case_name);
 
 TEST(NeighbourSearch, CellMergingVisitsNineRangesInsteadOf27Cells) {
     Scene s = test::random_scene(400, 0, 0.3, 0.02, 99u, 0.5);  // margin: no particle at an edge
