@@ -40,17 +40,25 @@ ColumnTable<CflLimitRow> make_cfl_limit_table() {
     return t;
 }
 
+// What one trial ended as: the columns the trial table and the energy summary share.
+ColumnTable<TrialOutcome> trial_outcome_table() {
+    using R = const TrialOutcome&;
+    ColumnTable<TrialOutcome> t;
+    t.add("cfl", [](R r) { return f(r.cfl); })
+        .add("stable", [](R r) { return yes_no(r.stable); })
+        .add("steps", [](R r) { return std::to_string(r.steps); })
+        .add("time", [](R r) { return f(r.time); })
+        .add("failed_step", [](R r) { return std::to_string(r.failed_step); })
+        .add("particle", [](R r) { return r.stable ? "" : std::to_string(r.particle); })
+        .add("quantity", [](R r) { return r.quantity; });
+    return t;
+}
+
 ColumnTable<TrialRow> make_trial_table() {
     using R = const TrialRow&;
     ColumnTable<TrialRow> t;
     t.add("run_id", [](R r) { return r.run_id; })
-        .add("cfl", [](R r) { return f(r.trial.cfl); })
-        .add("stable", [](R r) { return yes_no(r.trial.stable); })
-        .add("steps", [](R r) { return std::to_string(r.trial.steps); })
-        .add("time", [](R r) { return f(r.trial.time); })
-        .add("failed_step", [](R r) { return std::to_string(r.trial.failed_step); })
-        .add("particle", [](R r) { return r.trial.stable ? "" : std::to_string(r.trial.particle); })
-        .add("quantity", [](R r) { return r.trial.quantity; })
+        .append(trial_outcome_table(), [](R r) -> const TrialOutcome& { return r.trial; })
         .add("wall_s", [](R r) { return f(r.trial.wall_s); });
     return t;
 }
@@ -76,13 +84,7 @@ ColumnTable<EnergySummaryRow> make_energy_summary_table() {
     using R = const EnergySummaryRow&;
     ColumnTable<EnergySummaryRow> t;
     t.append(study_run_table(), [](R r) { return r.at; })
-        .add("cfl", [](R r) { return f(r.trial.cfl); })
-        .add("stable", [](R r) { return yes_no(r.trial.stable); })
-        .add("steps", [](R r) { return std::to_string(r.trial.steps); })
-        .add("time", [](R r) { return f(r.trial.time); })
-        .add("failed_step", [](R r) { return std::to_string(r.trial.failed_step); })
-        .add("particle", [](R r) { return r.trial.stable ? "" : std::to_string(r.trial.particle); })
-        .add("quantity", [](R r) { return r.trial.quantity; })
+        .append(trial_outcome_table(), [](R r) -> const TrialOutcome& { return r.trial; })
         .add("energy_scale", [](R r) { return f(r.scale); })
         .add("total_drift", [](R r) { return f((r.final.total() - r.initial.total()) / r.scale); })
         .add("mechanical_drift", [](R r) { return f((r.final.mechanical() - r.initial.mechanical()) / r.scale); })
