@@ -73,7 +73,8 @@ TEST(CudaBackend, PinnedRankStagingCarriesPiecesBitwise) {
 TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
     const Scene s = test::small_dambreak("0.02");
-    for (const SearchOptions search : {SearchOptions{1, false}, SearchOptions{2, true}}) {
+    // The third: Verlet lists (the listed loop; on the GPU a wall lists fluid only).
+    for (const SearchOptions search : {SearchOptions{1, false}, SearchOptions{2, true}, SearchOptions{1, false, true}}) {
         SolverOptions host, cuda;
         host.search = cuda.search = search;
         host.fixed_dt = cuda.fixed_dt = 1.4e-4;  // the scene's CFL step
@@ -85,9 +86,9 @@ TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
         const double worst = test::largest_fluid_difference(pa, pb, s.n_boundary);
         const double moved = test::largest_fluid_difference(s.position, pa, s.n_boundary);
         // Same summation order on both; only fused multiply-adds on the GPU round differently.
-        std::printf("cuda vs host, n = %d, merge = %d, %d steps: largest position difference %.3g dp "
+        std::printf("cuda vs host, n = %d, merge = %d, verlet = %d, %d steps: largest position difference %.3g dp "
                     "(largest displacement %.3g dp)\n",
-                    search.cells_per_support, int(search.merge), steps, worst / s.dp, moved / s.dp);
+                    search.cells_per_support, int(search.merge), int(search.verlet), steps, worst / s.dp, moved / s.dp);
         EXPECT_GT(moved, 0.1 * s.dp);
         EXPECT_LT(worst, 1e-3 * s.dp);
     }

@@ -206,7 +206,7 @@ TEST_P(HitMaskTraversal, HandsThePairSumsVisitsNeighboursInOrder) {
     const PhysicsParams& p = sc.params;
     const real support = p.support;
     const ForceInputs in{a.pos.data(), a.velrho.data(), a.velrho_prev.data(), a.cell.data(), sc.start.data(),
-                         sc.fluid_begin.data(), g};
+                         sc.fluid_begin.data(), g, nullptr};
     std::size_t pairs = 0, long_ranges = 0;
     dispatch_search(opt, [&](auto tag) {
         using Search = typename decltype(tag)::type;

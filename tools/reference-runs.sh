@@ -10,7 +10,9 @@
 #           benchmark cases with sphbench and with $BASE (an older build, when on PATH),
 #           alternating (and the commands named in $EXTRA_BINS), Nsight Compute on the force kernels, and DualSPHysics beside them
 #           when DSPH (its anchor folder) is set; CASE_COUNT=N runs the first N cases only,
-#           CASES='a;b' these cases, NCU_CASES='a;b' these under Nsight Compute
+#           CASES='a;b' these cases, NCU_CASES='a;b' these under Nsight Compute (NCU_KERNELS
+#           the kernels, default regex:forces_; NCU_LAUNCH which launches, default
+#           '--launch-skip 3 --launch-count 1')
 #   accuracy: the CUDA tests, the accuracy sweep (needs sphbench-f64: F64=1 gpu-run.sh pack)
 #           and the stability studies (issue 6)
 set -uo pipefail
@@ -82,7 +84,7 @@ forceloop)
     for args in "${ncu_cases[@]}"; do
       for bin in "${bins[@]}"; do
         echo "== ncu $bin simulate $args" | tee -a "$out/ncu.txt"
-        ncu --clock-control none -k 'regex:forces_' --launch-skip 3 --launch-count 1 \
+        ncu --clock-control none -k "${NCU_KERNELS:-regex:forces_}" ${NCU_LAUNCH:---launch-skip 3 --launch-count 1} \
           --section SpeedOfLight --section Occupancy --section LaunchStats --section WarpStateStats \
           --section InstructionStats --section MemoryWorkloadAnalysis \
           --metrics smsp__thread_inst_executed_per_inst_executed.ratio,smsp__thread_inst_executed_pred_on_per_inst_executed.ratio,smsp__inst_executed.sum,l1tex__t_requests_pipe_lsu_mem_local_op_ld.sum,l1tex__t_requests_pipe_lsu_mem_local_op_st.sum \

@@ -67,8 +67,13 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
 std::size_t longest_list_temp_bytes(std::uint32_t n);
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
                            ActiveRange range, std::uint32_t n, cudaStream_t s);
-void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
-             const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n, cudaStream_t s);
+// cell_coords: null, or each particle's cell as coordinates, kept up with cell (the listed loop's).
+void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, CellCoords* cell_coords,
+             const real4* force, const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg,
+             ActiveRange range, std::uint32_t n, cudaStream_t s);
+// Each particle's cell as coordinates, from the linear cells (after a sort).
+void fill_cell_coords(const std::uint32_t* cell, CellCoords* cell_coords, const GridView& g, std::uint32_t n,
+                      cudaStream_t s);
 // Bytes of temporary storage reduce_stats needs for n particles.
 std::size_t reduce_stats_temp_bytes(std::uint32_t n);
 void reduce_stats(const real4* velrho, const real4* velrho_prev, const real4* force, const std::uint32_t* id,

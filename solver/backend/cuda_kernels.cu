@@ -173,26 +173,35 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
     count[i] = build_particle_list<Search>(i, in, reach2, index, stride, capacity);
 }
 
-template <class Kernel, bool Diffusion>
-__global__ void __launch_bounds__(block_size) forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p,
-                                                                   real4* __restrict__ force,
-                                                                   ActiveRange range) {
-    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+// The listed loop: one thread per particle over its stored list, cells read as coordinates.
+template <class Kernel, bool Diffusion, bool EarlyLoads, class Policy>
+__global__ void __launch_bounds__(Policy::block_size)
+    forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p, real4* __restrict__ force,
+                         ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * Policy::block_size + threadIdx.x;
     if (i >= *range.end) return;
     if (in.cell[i] >= in.grid.out_of_domain()) {  // left the domain since the last rebuild
         force[i] = real4{0, 0, 0, 0};
         return;
     }
     const Kernel kernel(p.h);
-    force[i] = particle_force_listed<Kernel, Diffusion>(i, in, list, p, kernel);
+    force[i] = particle_force_listed<Kernel, Diffusion, true, EarlyLoads>(i, in, list, p, kernel);
 }
 
 template <bool IntegrateBoundary>
-__global__ void advance_kernel(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
-                               const real4* grad_c, TimeStep step, GridView g, PhysicsParams p, ActiveRange range) {
+__global__ void advance_kernel(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell,
+                               CellCoords* cell_coords, const real4* force, const real4* grad_c, TimeStep step,
+                               GridView g, PhysicsParams p, ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= *range.end) return;
-    particle_advance<IntegrateBoundary>(i, pos, velrho, velrho_prev, cell, force, grad_c, step, g, p);
+    particle_advance<IntegrateBoundary>(i, pos, velrho, velrho_prev, cell, cell_coords, force, grad_c, step, g, p);
+}
+
+__global__ void cell_coords_kernel(const std::uint32_t* cell, CellCoords* cell_coords, GridView g, std::uint32_t n) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const std::uint32_t c = cell[i];
+    cell_coords[i] = pack_cell_coords(g.decode(c), c < g.out_of_domain());
 }
 
 template <class Search>
@@ -372,27 +381,52 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
     return longest;
 }
 
+// SPH_LISTED_LOADS=late in the environment loads each entry's velocity and density after the
+// support test, where the policy loads them before (bench/FORCE_LOOP_NOTES.md).
+bool late_listed_loads_forced() {
+    static const bool forced = [] {
+        const char* v = std::getenv("SPH_LISTED_LOADS");
+        return v != nullptr && std::string(v) == "late";
+    }();
+    return forced;
+}
+
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
                            ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
+    using Policy = ListedLoopPolicy;
+    const bool early = Policy::early_loads && !late_listed_loads_forced();
     dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
         using Kernel = typename decltype(k)::type;
-        forces_listed_kernel<Kernel, decltype(diffusion)::value>
-            <<<blocks_for(n), block_size, 0, s>>>(in, list, cfg.params, force, range);
+        constexpr bool Diffusion = decltype(diffusion)::value;
+        const unsigned blocks = blocks_for<Policy::block_size>(n);
+        if (early)
+            forces_listed_kernel<Kernel, Diffusion, true, Policy>
+                <<<blocks, Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
+        else
+            forces_listed_kernel<Kernel, Diffusion, false, Policy>
+                <<<blocks, Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const real4* force,
-             const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg, ActiveRange range, std::uint32_t n,
-             cudaStream_t s) {
+void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, CellCoords* cell_coords,
+             const real4* force, const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg,
+             ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
     if (cfg.integrate_boundary)
-        advance_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, grad_c, step,
-                                                                   cfg.grid, cfg.params, range);
+        advance_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, cell_coords, force,
+                                                                   grad_c, step, cfg.grid, cfg.params, range);
     else
-        advance_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, force, grad_c,
-                                                                    step, cfg.grid, cfg.params, range);
+        advance_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, cell_coords, force,
+                                                                    grad_c, step, cfg.grid, cfg.params, range);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void fill_cell_coords(const std::uint32_t* cell, CellCoords* cell_coords, const GridView& g, std::uint32_t n,
+                      cudaStream_t s) {
+    if (n == 0) return;
+    cell_coords_kernel<<<blocks_for(n), block_size, 0, s>>>(cell, cell_coords, g, n);
     SPH_CUDA_CHECK_LAUNCH();
 }
 

@@ -44,8 +44,17 @@ struct ForceLoopPolicySm90 {
                                                                : SPH_FORCE_HIT_MASKS != 0;
 };
 
+// The listed loop (Verlet lists, forces_listed_kernel): one thread per particle.
+struct ListedLoopPolicySm90 {
+    static constexpr int block_size = 128;
+    // Each entry's velocity and density loaded with its position, before the support test
+    // (SPH_LISTED_LOADS=late at run time loads them after it, to time both on one build).
+    static constexpr bool early_loads = true;
+};
+
 // One architecture is tuned today (the build targets sm_90); a second one gets its own
 // structs here and a switch on the device's compute capability in the drivers.
 using ForceLoopPolicy = ForceLoopPolicySm90;
+using ListedLoopPolicy = ListedLoopPolicySm90;
 
 }  // namespace sph::gpu

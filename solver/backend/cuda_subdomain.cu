@@ -265,7 +265,15 @@ public:
         use_device();
         const real reach = cfg_.params.support + skin;
         require_stencil_reach(cfg_, reach);
+        const GridView& g = cfg_.grid;
+        if (!fits_cell_coords(g))
+            throw RunError("Verlet lists on the GPU take grids of at most " + std::to_string(cell_coords_limit) +
+                           " cells along an axis; this one has " + std::to_string(g.nx) + " x " + std::to_string(g.ny) +
+                           " x " + std::to_string(g.nz) + " (use a cell search: drop --verlet)");
         if (list_count_.size() < n_) list_count_.allocate(n_);
+        // The listed loop reads every neighbour's cell as coordinates; advance keeps them from here on.
+        if (cell_coords_.size() < n_) cell_coords_.allocate(n_);
+        gpu::fill_cell_coords(cell_.data(), cell_coords_.data(), g, n_, stream_);
         for (int attempt = 0; attempt < 2; ++attempt) {
             const std::size_t need = std::size_t(list_capacity_) * n_;
             if (list_index_.size() < need) {
@@ -285,11 +293,14 @@ public:
         const NeighbourList list{list_index_.data(), list_count_.data(), n_};
         gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), active_range(), n_, stream_);
     }
-    std::size_t neighbour_list_bytes() const override { return list_index_.bytes() + list_count_.bytes(); }
+    std::size_t neighbour_list_bytes() const override {
+        return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes();
+    }
 
     void advance(const TimeStep& step) override {
         use_device();
-        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), force_.data(),
+        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(),
+                     keeps_cell_coords() ? cell_coords_.data() : nullptr, force_.data(),
                      grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_, active_range(), n_, stream_);
     }
 
@@ -298,7 +309,8 @@ public:
         const std::uint32_t f = std::clamp(first_cell, owned_[0], owned_[1]);
         const std::uint32_t e = std::clamp(end_cell, f, owned_[1]);
         if (e == f) return;
-        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), force_.data(),
+        gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(),
+                     keeps_cell_coords() ? cell_coords_.data() : nullptr, force_.data(),
                      grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_,
                      {cell_start_.data() + f, cell_start_.data() + e}, n_, stream_);
     }
@@ -342,8 +354,10 @@ public:
 private:
     ForceInputs inputs() const {
         return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), fluid_begin_.data(),
-                cfg_.grid};
+                cfg_.grid, keeps_cell_coords() ? cell_coords_.data() : nullptr};
     }
+    // Kept once lists were built (Verlet lists), and from then on by every advance.
+    bool keeps_cell_coords() const { return n_ > 0 && cell_coords_.size() >= n_; }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     // Subdomains of one run live on different GPUs and share the host thread: every entry
     // point makes its GPU current first (cheap when it already is).
@@ -368,6 +382,7 @@ private:
     DeviceBuffer<StepStats> stats_;
     DeviceBuffer<unsigned long long> counters_;
     DeviceBuffer<std::uint32_t> list_index_, list_count_, counters32_{1};
+    DeviceBuffer<CellCoords> cell_coords_;
     std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
     DeviceBuffer<real4> recv_pos_, recv_velrho_, recv_velrho_prev_;  // the receive area of exchanges

@@ -73,9 +73,10 @@ SPH_HD real3 shifting_move(const real4& velrho, const real4* grad_c, std::uint32
 
 // IntegrateBoundary = true moves boundary particles like fluid ones under their zero
 // acceleration: the same result at more cost, kept only so that skip_bench can measure it.
+// cell_coords (null unless the backend keeps them: the CUDA listed loop) follows cell.
 template <bool IntegrateBoundary = false>
 SPH_HD void particle_advance(std::uint32_t i, real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell,
-                             const real4* force, const real4* grad_c, const TimeStep& s, const GridView& g,
+                             CellCoords* cell_coords, const real4* force, const real4* grad_c, const TimeStep& s, const GridView& g,
                              const PhysicsParams& p) {
     const std::uint32_t c = cell[i];
     if (c >= g.out_of_domain()) return;
@@ -94,7 +95,9 @@ SPH_HD void particle_advance(std::uint32_t i, real4* pos, real4* velrho, real4* 
         wrap_into_cell(ps.y, cc.y, g.cell_size.y);
         wrap_into_cell(ps.z, cc.z, g.cell_size.z);
         if (g.any_periodic()) cc = g.wrap_periodic(cc);
-        cell[i] = g.inside(cc.x, cc.y, cc.z) ? g.encode(cc.x, cc.y, cc.z) : g.out_of_domain();
+        const bool inside = g.inside(cc.x, cc.y, cc.z);
+        cell[i] = inside ? g.encode(cc.x, cc.y, cc.z) : g.out_of_domain();
+        if (cell_coords) cell_coords[i] = pack_cell_coords(cc, inside);
     }
     velrho_prev[i] = now;
     velrho[i] = next;

@@ -36,6 +36,9 @@ struct ForceInputs {
     // (the host backend).
     const std::uint32_t* fluid_begin;
     GridView grid;
+    // Each particle's cell as coordinates, kept by the integration between list rebuilds, for
+    // the listed loop (the CUDA backend with Verlet lists); null elsewhere.
+    const CellCoords* cell_coords;
 };
 
 // What a pair's terms read of particle i: its position (w: pressure), velocity and density,
@@ -139,6 +142,16 @@ struct PairSums {
     SPH_HD_INLINE void add_neighbour(std::uint32_t j, const real3& rij, real r2) {
         const real4 vr_j = body.in.velrho[j];
         if (!totals.fluid_i && is_boundary(vr_j)) return;  // boundary-boundary pairs do nothing
+        totals.accumulate(body.terms(side, j, vr_j, rij, r2));
+    }
+    // add() with j's velocity and density already loaded (the listed loop loads them with
+    // j's position, before the support test, so that the two loads wait once, not in turn).
+    // One test of all three conditions (bitwise, no short cut): with the wall check behind the
+    // support test the compiler sank the load below it.
+    SPH_HD_INLINE void add_loaded(std::uint32_t j, const real4& vr_j, const real3& rij, real r2) {
+        const PhysicsParams& p = body.p;
+        const bool skip = (r2 >= p.support2) | (r2 <= real(1e-18) * p.support2) | (!totals.fluid_i & is_boundary(vr_j));
+        if (skip) return;
         totals.accumulate(body.terms(side, j, vr_j, rij, r2));
     }
     SPH_HD bool fluid_i() const { return totals.fluid_i; }
@@ -288,23 +301,55 @@ struct NeighbourList {
 };
 
 // The same sums over a stored list. Particles keep their cell between rebuilds only up to
-// the skin, so each pair decodes both cells.
-template <class Kernel, bool Diffusion>
-SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const NeighbourList& list,
-                                   const PhysicsParams& p, const Kernel& kernel) {
+// the skin, so each pair finds both cells: from in.cell_coords where the backend keeps them
+// (PackedCells), else by decoding the linear index. Periodic grids take each pair's
+// separation to the nearest image (listed_separation); others skip those compares, which cost
+// an entry as much as everything else before the support test (SASS of the CUDA loop: ~100
+// instructions an entry with them, ~50 without), in a loop of their own chosen once per particle.
+// EarlyLoads: j's velocity and density are loaded with its position (add_loaded), for every
+// entry, inside the support or not.
+template <class Kernel, bool Diffusion, bool PackedCells, bool EarlyLoads, bool Periodic>
+SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const NeighbourList& list, const PhysicsParams& p,
+                         const Kernel& kernel) {
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
-    const int3v ci = in.grid.decode(in.cell[i]);
+    const auto cell_of = [&](std::uint32_t k) {
+        if constexpr (PackedCells) {
+            const CellCoords c = in.cell_coords[k];
+            return int3v{c.x, c.y, c.z};
+        } else {
+            return in.grid.decode(in.cell[k]);
+        }
+    };
+    const int3v ci = cell_of(i);
     const std::uint32_t n = list.count[i];
     for (std::uint32_t k = 0; k < n; ++k) {
         const std::uint32_t j = list.index[std::size_t(k) * list.stride + i];
-        const int3v cj = in.grid.decode(in.cell[j]);
-        const real3 rij = listed_separation(sums.side.pos, in.pos[j], ci, cj, in.grid);
-        sums.add(j, rij, dot(rij, rij));
+        const int3v cj = cell_of(j);
+        const real4 pos_j = in.pos[j];
+        real3 rij;
+        if constexpr (Periodic) rij = listed_separation(sums.side.pos, pos_j, ci, cj, in.grid);
+        else rij = separation(sums.side.pos, pos_j, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
+        if constexpr (EarlyLoads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
+        else sums.add(j, rij, dot(rij, rij));
     }
     return sums.result();
 }
 
-// Builds particle i's list: every candidate within support + skin, in visiting order.
+// PackedCells and EarlyLoads: the backend's choices (the host decodes cells and loads late).
+template <class Kernel, bool Diffusion, bool PackedCells = false, bool EarlyLoads = false>
+SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const NeighbourList& list,
+                                   const PhysicsParams& p, const Kernel& kernel) {
+    return in.grid.any_periodic()
+               ? listed_sums<Kernel, Diffusion, PackedCells, EarlyLoads, true>(i, in, list, p, kernel)
+               : listed_sums<Kernel, Diffusion, PackedCells, EarlyLoads, false>(i, in, list, p, kernel);
+}
+
+// Builds particle i's list: every candidate within support + skin, in visiting order. Where
+// the inputs give each cell's first fluid particle (the CUDA backend), a wall particle lists
+// fluid only: the force loop drops wall-wall pairs, and most walls then list nothing (half of
+// the armadillo's particles are walls that never see water), so their entries cost neither
+// memory nor a pass of the listed loop. The fluid comes in visit()'s order, so a wall sums
+// the same pairs in the same order either way.
 // Returns the true count; entries past `capacity` are not written (the caller grows and retries).
 template <class Search>
 SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in, real reach2, std::uint32_t* index,
@@ -312,14 +357,21 @@ SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in,
     std::uint32_t n = 0;
     const real4 pi = in.pos[i];
     const real3 cs = in.grid.cell_size;
-    Search::visit(in.grid, in.cell_start, in.cell, in.grid.decode(in.cell[i]),
-                  [&](std::uint32_t j, int dx, int dy, int dz) {
-                      if (j == i) return;
-                      const real3 rij = separation(pi, in.pos[j], dx, dy, dz, cs);
-                      if (dot(rij, rij) >= reach2) return;
-                      if (n < capacity) index[std::size_t(n) * stride + i] = j;
-                      ++n;
-                  });
+    const auto keep = [&](std::uint32_t j, int dx, int dy, int dz) {
+        if (j == i) return;
+        const real3 rij = separation(pi, in.pos[j], dx, dy, dz, cs);
+        if (dot(rij, rij) >= reach2) return;
+        if (n < capacity) index[std::size_t(n) * stride + i] = j;
+        ++n;
+    };
+    const int3v c = in.grid.decode(in.cell[i]);
+    if (in.fluid_begin != nullptr && is_boundary(in.velrho[i]))
+        Search::visit_fluid_cells(in.grid, in.cell_start, in.fluid_begin, c,
+                                  [&](std::uint32_t begin, std::uint32_t end, int dx, int dy, int dz) {
+                                      for (std::uint32_t j = begin; j < end; ++j) keep(j, dx, dy, dz);
+                                  });
+    else
+        Search::visit(in.grid, in.cell_start, in.cell, c, keep);
     return n;
 }
 

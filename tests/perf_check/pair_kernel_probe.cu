@@ -21,7 +21,7 @@ __global__ void __launch_bounds__(block_size, SPH_PROBE_MIN_BLOCKS)
     const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     const ProbeKernel kernel(p.h);
-    force[i] = particle_force_listed<ProbeKernel, true>(i, in, list, p, kernel);
+    force[i] = particle_force_listed<ProbeKernel, true, true, true>(i, in, list, p, kernel);  // as forces_listed_kernel
 }
 
 }  // namespace sph::probe

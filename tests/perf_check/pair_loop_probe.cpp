@@ -59,7 +59,7 @@ Lattice make_lattice(int side, real dp, real support) {
 // Not inlined, so that callgrind can count this function alone (--toggle-collect).
 __attribute__((noinline)) double probe_force_loop(const Lattice& l, const PhysicsParams& p, int repeats) {
     const ForceInputs in{l.pos.data(), l.velrho.data(), l.velrho_prev.data(), l.cell.data(), l.cell_start.data(),
-                          nullptr, l.grid};
+                          nullptr, l.grid, nullptr};
     const ProbeKernel kernel(p.h);
     double checksum = 0;
     for (int r = 0; r < repeats; ++r)
