@@ -174,8 +174,8 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
 }
 
 // The listed loop: one thread per particle over its stored list, cells read as coordinates.
-template <class Kernel, bool Diffusion, bool EarlyLoads, class Policy>
-__global__ void __launch_bounds__(Policy::block_size)
+template <class Kernel, bool Diffusion, class Policy>
+__global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
     forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p, real4* __restrict__ force,
                          ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * Policy::block_size + threadIdx.x;
@@ -185,7 +185,7 @@ __global__ void __launch_bounds__(Policy::block_size)
         return;
     }
     const Kernel kernel(p.h);
-    force[i] = particle_force_listed<Kernel, Diffusion, true, EarlyLoads>(i, in, list, p, kernel);
+    force[i] = particle_force_listed<Kernel, Diffusion, Policy>(i, in, list, p, kernel);
 }
 
 template <bool IntegrateBoundary>
@@ -381,32 +381,35 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
     return longest;
 }
 
-// SPH_LISTED_LOADS=late in the environment loads each entry's velocity and density after the
-// support test, where the policy loads them before (bench/FORCE_LOOP_NOTES.md).
-bool late_listed_loads_forced() {
-    static const bool forced = [] {
-        const char* v = std::getenv("SPH_LISTED_LOADS");
-        return v != nullptr && std::string(v) == "late";
+// SPH_LISTED_POLICY=no-lookahead or =occupancy in the environment runs a variant of the
+// listed loop's policy (cuda_launch_policy.cuh), to time it beside the policy on one build.
+int listed_policy_variant() {
+    static const int variant = [] {
+        const char* v = std::getenv("SPH_LISTED_POLICY");
+        const std::string name = v != nullptr ? v : "";
+        return name == "no-lookahead" ? 1 : name == "occupancy" ? 2 : 0;
     }();
-    return forced;
+    return variant;
+}
+
+template <class Policy>
+void launch_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
+                          ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
+        using Kernel = typename decltype(k)::type;
+        forces_listed_kernel<Kernel, decltype(diffusion)::value, Policy>
+            <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
+    });
 }
 
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
                            ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    using Policy = ListedLoopPolicy;
-    const bool early = Policy::early_loads && !late_listed_loads_forced();
-    dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
-        using Kernel = typename decltype(k)::type;
-        constexpr bool Diffusion = decltype(diffusion)::value;
-        const unsigned blocks = blocks_for<Policy::block_size>(n);
-        if (early)
-            forces_listed_kernel<Kernel, Diffusion, true, Policy>
-                <<<blocks, Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
-        else
-            forces_listed_kernel<Kernel, Diffusion, false, Policy>
-                <<<blocks, Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
-    });
+    switch (listed_policy_variant()) {
+    case 1: launch_forces_listed<ListedLoopNoLookahead>(cfg, in, list, force, range, n, s); break;
+    case 2: launch_forces_listed<ListedLoopHighOccupancy>(cfg, in, list, force, range, n, s); break;
+    default: launch_forces_listed<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
+    }
     SPH_CUDA_CHECK_LAUNCH();
 }
 

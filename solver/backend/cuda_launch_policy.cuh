@@ -44,12 +44,26 @@ struct ForceLoopPolicySm90 {
                                                                : SPH_FORCE_HIT_MASKS != 0;
 };
 
-// The listed loop (Verlet lists, forces_listed_kernel): one thread per particle.
+// The listed loop (Verlet lists, forces_listed_kernel): one thread per particle. The members
+// after block_size are physics/interaction.hpp's ListedLoopDefaults, chosen for this GPU.
 struct ListedLoopPolicySm90 {
     static constexpr int block_size = 128;
-    // Each entry's velocity and density loaded with its position, before the support test
-    // (SPH_LISTED_LOADS=late at run time loads them after it, to time both on one build).
+    // __launch_bounds__' second argument: 8 blocks of 128 threads leave 64 registers a thread
+    // (without it the lookahead's loop took 71: 44% occupancy where 56 registers gave 52%).
+    static constexpr int min_blocks = 8;
+    // Measured (change 8): without the decode's two integer divisions an entry costs ~141
+    // instructions, not ~167; the loop then waits on memory (72% of its stalls).
+    static constexpr bool packed_cells = true;
+    // Measured within 1% either way (change 8).
     static constexpr bool early_loads = true;
+    static constexpr int index_lookahead = 2;
+};
+// Variants that SPH_LISTED_POLICY names at run time, to time them on one build.
+struct ListedLoopNoLookahead : ListedLoopPolicySm90 {  // "no-lookahead"
+    static constexpr int index_lookahead = 0;
+};
+struct ListedLoopHighOccupancy : ListedLoopPolicySm90 {  // "occupancy": at most 40 registers
+    static constexpr int min_blocks = 12;
 };
 
 // One architecture is tuned today (the build targets sm_90); a second one gets its own

@@ -300,48 +300,70 @@ struct NeighbourList {
     std::uint32_t stride;
 };
 
+// How a backend runs the listed loop: the host's choices here; a GPU's come from its launch
+// policy (backend/cuda_launch_policy.cuh), which has the same members.
+//   packed_cells:    read each neighbour's cell from in.cell_coords, not by decoding in.cell
+//   early_loads:     load j's velocity and density with its position, before the support test
+//   index_lookahead: load the list's entry k + L while entry k is summed (0, 1 or 2): a
+//                    GPU's list is read from DRAM, one row of the warp at a time
+struct ListedLoopDefaults {
+    static constexpr bool packed_cells = false;
+    static constexpr bool early_loads = false;
+    static constexpr int index_lookahead = 0;
+};
+
 // The same sums over a stored list. Particles keep their cell between rebuilds only up to
-// the skin, so each pair finds both cells: from in.cell_coords where the backend keeps them
-// (PackedCells), else by decoding the linear index. Periodic grids take each pair's
-// separation to the nearest image (listed_separation); others skip those compares, which cost
-// an entry as much as everything else before the support test (SASS of the CUDA loop: ~100
-// instructions an entry with them, ~50 without), in a loop of their own chosen once per particle.
-// EarlyLoads: j's velocity and density are loaded with its position (add_loaded), for every
-// entry, inside the support or not.
-template <class Kernel, bool Diffusion, bool PackedCells, bool EarlyLoads, bool Periodic>
+// the skin, so each pair finds both cells. Periodic grids take each pair's separation to the
+// nearest image (listed_separation); others skip those compares, which cost an entry as much
+// as everything else before the support test (SASS of the CUDA loop: ~100 instructions an
+// entry with them, ~50 without), in a loop of their own chosen once per particle.
+template <class Kernel, bool Diffusion, class Choices, bool Periodic>
 SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const NeighbourList& list, const PhysicsParams& p,
                          const Kernel& kernel) {
+    constexpr int lookahead = Choices::index_lookahead;
+    static_assert(lookahead >= 0 && lookahead <= 2, "index_lookahead is 0, 1 or 2");
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
     const auto cell_of = [&](std::uint32_t k) {
-        if constexpr (PackedCells) {
+        if constexpr (Choices::packed_cells) {
             const CellCoords c = in.cell_coords[k];
             return int3v{c.x, c.y, c.z};
         } else {
             return in.grid.decode(in.cell[k]);
         }
     };
+    const auto entry = [&](std::uint32_t k) { return list.index[std::size_t(k) * list.stride + i]; };
     const int3v ci = cell_of(i);
     const std::uint32_t n = list.count[i];
+    std::uint32_t next1 = lookahead >= 1 && n > 0 ? entry(0) : 0;  // entries k + 1 and k + 2, loaded ahead
+    std::uint32_t next2 = lookahead >= 2 && n > 1 ? entry(1) : 0;
     for (std::uint32_t k = 0; k < n; ++k) {
-        const std::uint32_t j = list.index[std::size_t(k) * list.stride + i];
+        std::uint32_t j;
+        if constexpr (lookahead == 0) {
+            j = entry(k);
+        } else if constexpr (lookahead == 1) {
+            j = next1;
+            if (k + 1 < n) next1 = entry(k + 1);
+        } else {
+            j = next1;
+            next1 = next2;
+            if (k + 2 < n) next2 = entry(k + 2);
+        }
         const int3v cj = cell_of(j);
         const real4 pos_j = in.pos[j];
         real3 rij;
         if constexpr (Periodic) rij = listed_separation(sums.side.pos, pos_j, ci, cj, in.grid);
         else rij = separation(sums.side.pos, pos_j, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
-        if constexpr (EarlyLoads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
+        if constexpr (Choices::early_loads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
         else sums.add(j, rij, dot(rij, rij));
     }
     return sums.result();
 }
 
-// PackedCells and EarlyLoads: the backend's choices (the host decodes cells and loads late).
-template <class Kernel, bool Diffusion, bool PackedCells = false, bool EarlyLoads = false>
+template <class Kernel, bool Diffusion, class Choices = ListedLoopDefaults>
 SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const NeighbourList& list,
                                    const PhysicsParams& p, const Kernel& kernel) {
-    return in.grid.any_periodic()
-               ? listed_sums<Kernel, Diffusion, PackedCells, EarlyLoads, true>(i, in, list, p, kernel)
-               : listed_sums<Kernel, Diffusion, PackedCells, EarlyLoads, false>(i, in, list, p, kernel);
+    return in.grid.any_periodic() ? listed_sums<Kernel, Diffusion, Choices, true>(i, in, list, p, kernel)
+                                  : listed_sums<Kernel, Diffusion, Choices, false>(i, in, list, p, kernel);
 }
 
 // Builds particle i's list: every candidate within support + skin, in visiting order. Where

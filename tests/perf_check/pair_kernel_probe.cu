@@ -1,6 +1,7 @@
 // Probe kernels for the perf-check tests: the force loops of cuda_kernels.cu (cell search and
 // stored list) on the real pair body, with the stand-ins of pair_probe.hpp. Compiled, never run:
 // the tests read what the compiler made of them with tools/perf_check.py kernels.
+#include "backend/cuda_launch_policy.cuh"
 #include "pair_probe.hpp"
 
 namespace sph::probe {
@@ -21,7 +22,7 @@ __global__ void __launch_bounds__(block_size, SPH_PROBE_MIN_BLOCKS)
     const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     const ProbeKernel kernel(p.h);
-    force[i] = particle_force_listed<ProbeKernel, true, true, true>(i, in, list, p, kernel);  // as forces_listed_kernel
+    force[i] = particle_force_listed<ProbeKernel, true, gpu::ListedLoopPolicy>(i, in, list, p, kernel);  // as forces_listed_kernel
 }
 
 }  // namespace sph::probe
