@@ -68,6 +68,13 @@ BENCHMARK_CASES = [
     "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2 --merge",
     "armadillo --set particles=2980000",
     "armadillo --set particles=2980000 --merge --cells-per-support 2",
+    # Verlet lists on half-size cells with a skin of 0.05 supports: the fastest setting measured
+    # (bench/FORCE_LOOP_NOTES.md, change 8); the claims table compares them with DualSPHysics too.
+    "dsph-dambreak --verlet --cells-per-support 2 --skin 0.05",
+    "dsph-dambreak --set kernel=wendland --verlet --cells-per-support 2 --skin 0.05",
+    "dsph-dambreak --set dp=0.0028 --verlet --cells-per-support 2 --skin 0.05",
+    "dsph-dambreak --set dp=0.0028 --set kernel=wendland --verlet --cells-per-support 2 --skin 0.05",
+    "armadillo --set particles=2980000 --verlet --cells-per-support 2 --skin 0.05",
 ]
 CALIBRATION_CASES = ["armadillo --set particles=2980000", "bunny --set particles=3049000", "dsph-dambreak"]
 CUDA_TEST_FILTER = "*Forces.*:CudaBackend.*:*CudaTransports*:*StencilFluidCells*"

@@ -57,7 +57,6 @@ struct ListedLoopPolicySm90 {
     // Measured within 1% either way (change 8).
     static constexpr bool early_loads = true;
     static constexpr int index_lookahead = 2;
-    static constexpr bool gather_ahead = false;
 };
 // Variants that SPH_LISTED_POLICY names at run time, to time them on one build.
 struct ListedLoopNoLookahead : ListedLoopPolicySm90 {  // "no-lookahead"
@@ -65,10 +64,6 @@ struct ListedLoopNoLookahead : ListedLoopPolicySm90 {  // "no-lookahead"
 };
 struct ListedLoopHighOccupancy : ListedLoopPolicySm90 {  // "occupancy": at most 40 registers
     static constexpr int min_blocks = 12;
-};
-struct ListedLoopGatherAhead : ListedLoopPolicySm90 {  // "gather-ahead": at most 72 registers
-    static constexpr int min_blocks = 7;
-    static constexpr bool gather_ahead = true;
 };
 
 // One architecture is tuned today (the build targets sm_90); a second one gets its own

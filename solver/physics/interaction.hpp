@@ -306,13 +306,10 @@ struct NeighbourList {
 //   early_loads:     load j's velocity and density with its position, before the support test
 //   index_lookahead: load the list's entry k + L while entry k is summed (0, 1 or 2): a
 //                    GPU's list is read from DRAM, one row of the warp at a time
-//   gather_ahead:    also load entry k + 1's position and cell while entry k is summed
-//                    (needs index_lookahead >= 1)
 struct ListedLoopDefaults {
     static constexpr bool packed_cells = false;
     static constexpr bool early_loads = false;
     static constexpr int index_lookahead = 0;
-    static constexpr bool gather_ahead = false;
 };
 
 // The same sums over a stored list. Particles keep their cell between rebuilds only up to
@@ -337,16 +334,8 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
     const auto entry = [&](std::uint32_t k) { return list.index[std::size_t(k) * list.stride + i]; };
     const int3v ci = cell_of(i);
     const std::uint32_t n = list.count[i];
-    constexpr bool gather_ahead = Choices::gather_ahead;
-    static_assert(!gather_ahead || lookahead >= 1, "gather_ahead needs index_lookahead >= 1");
     std::uint32_t next1 = lookahead >= 1 && n > 0 ? entry(0) : 0;  // entries k + 1 and k + 2, loaded ahead
     std::uint32_t next2 = lookahead >= 2 && n > 1 ? entry(1) : 0;
-    int3v next_cell{0, 0, 0};  // gather_ahead: entry k + 1's cell and position
-    real4 next_pos{0, 0, 0, 0};
-    if (gather_ahead && n > 0) {
-        next_cell = cell_of(next1);
-        next_pos = in.pos[next1];
-    }
     for (std::uint32_t k = 0; k < n; ++k) {
         std::uint32_t j;
         if constexpr (lookahead == 0) {
@@ -359,19 +348,8 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
             next1 = next2;
             if (k + 2 < n) next2 = entry(k + 2);
         }
-        int3v cj;
-        real4 pos_j;
-        if constexpr (gather_ahead) {
-            cj = next_cell;
-            pos_j = next_pos;
-            if (k + 1 < n) {
-                next_cell = cell_of(next1);
-                next_pos = in.pos[next1];
-            }
-        } else {
-            cj = cell_of(j);
-            pos_j = in.pos[j];
-        }
+        const int3v cj = cell_of(j);
+        const real4 pos_j = in.pos[j];
         real3 rij;
         if constexpr (Periodic) rij = listed_separation(sums.side.pos, pos_j, ci, cj, in.grid);
         else rij = separation(sums.side.pos, pos_j, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
