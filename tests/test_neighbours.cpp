@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <set>
 
@@ -136,6 +137,72 @@ SortedCells sorted_cells(const RangeCase& rc, const SearchOptions& opt, std::uin
     out.fluid_begin[ncells] = out.start[ncells];
     return out;
 }
+
+// The GPU's listed loop (ListedLoopPolicySm90's choices: cells read as coordinates, the
+// density loaded before the support test, the list read one or two entries ahead, walls'
+// lists of fluid only) must give the host's listed loop's sums bit for bit: the same pairs in
+// the same order through the same arithmetic. Both run here, on the host.
+template <int Lookahead>
+struct GpuLikeListedLoop {
+    static constexpr bool packed_cells = true;
+    static constexpr bool early_loads = true;
+    static constexpr int index_lookahead = Lookahead;
+};
+
+class ListedLoopChoices : public ::testing::TestWithParam<RangeCase> {};
+
+TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
+    const RangeCase rc = GetParam();
+    const SearchOptions opt{rc.n, rc.merge};
+    const SortedCells sc = sorted_cells(rc, opt, 9090u + rc.n * 4 + rc.merge * 2 + rc.periodic);
+    const GridView& g = sc.grid.view;
+    const ParticleArrays& a = sc.a;
+    const PhysicsParams& p = sc.params;
+    const std::uint32_t n = std::uint32_t(a.size());
+    std::vector<CellCoords> coords(n);
+    for (std::uint32_t i = 0; i < n; ++i) coords[i] = pack_cell_coords(g.decode(a.cell[i]), a.cell[i] < g.out_of_domain());
+    const ForceInputs host_in{a.pos.data(), a.velrho.data(), a.velrho_prev.data(), a.cell.data(), sc.start.data(),
+                              nullptr, g, nullptr};
+    ForceInputs gpu_in = host_in;
+    gpu_in.fluid_begin = sc.fluid_begin.data();
+    gpu_in.cell_coords = coords.data();
+    const real reach = real(1.1) * p.support;
+    const std::uint32_t capacity = 400;
+    auto build = [&](const ForceInputs& in, std::vector<std::uint32_t>& index, std::vector<std::uint32_t>& count) {
+        index.assign(std::size_t(capacity) * n, 0);
+        count.assign(n, 0);
+        dispatch_search(opt, [&](auto tag) {
+            using Search = typename decltype(tag)::type;
+            for (std::uint32_t i = 0; i < n; ++i)
+                if (a.cell[i] < g.out_of_domain())
+                    count[i] = build_particle_list<Search>(i, in, reach * reach, index.data(), n, capacity);
+        });
+    };
+    std::vector<std::uint32_t> host_index, host_count, gpu_index, gpu_count;
+    build(host_in, host_index, host_count);
+    build(gpu_in, gpu_index, gpu_count);
+    const NeighbourList host_list{host_index.data(), host_count.data(), n}, gpu_list{gpu_index.data(), gpu_count.data(), n};
+    const CubicSpline kernel(p.h);
+    std::size_t walls_shorter = 0, compared = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (a.cell[i] >= g.out_of_domain()) continue;
+        ASSERT_LE(host_count[i], capacity);
+        if (gpu_count[i] < host_count[i]) ++walls_shorter;
+        const real4 want = particle_force_listed<CubicSpline, true>(i, host_in, host_list, p, kernel);
+        const real4 one = particle_force_listed<CubicSpline, true, GpuLikeListedLoop<1>>(i, gpu_in, gpu_list, p, kernel);
+        const real4 two = particle_force_listed<CubicSpline, true, GpuLikeListedLoop<2>>(i, gpu_in, gpu_list, p, kernel);
+        ASSERT_EQ(std::memcmp(&want, &one, sizeof want), 0) << "particle " << i << ", lookahead 1";
+        ASSERT_EQ(std::memcmp(&want, &two, sizeof want), 0) << "particle " << i << ", lookahead 2";
+        ++compared;
+    }
+    EXPECT_GT(compared, n / 2);
+    EXPECT_GT(walls_shorter, 0u);  // walls' lists left their walls out
+}
+
+INSTANTIATE_TEST_SUITE_P(AllStrategies, ListedLoopChoices,
+                         ::testing::Values(RangeCase{1, false, false}, RangeCase{2, true, false},
+                                           RangeCase{1, false, true}, RangeCase{2, true, true}),
+                         range_case_name);
 
 TEST_P(StencilFluidCells, GiveBoundaryParticlesExactlyVisitsFluidCandidates) {
     const RangeCase rc = GetParam();
