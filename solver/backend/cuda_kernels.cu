@@ -174,6 +174,43 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
 }
 
 // The listed loop: one thread per particle over its stored list, cells read as coordinates.
+// The same lists, built with a warp's lanes walking their stencils in step
+// (visit_ranges_in_step, as forces_compacted_kernel): the lanes then store row k of their lists
+// at about the same time, and the L2 completes each row's 32-byte sectors (8 lanes each) before
+// writing them back. Walked one lane at a time (build_lists_kernel), a warp's rows filled far
+// apart, and the writes took ~6.5 of a rebuild's 8.2 ms on the dam break (FORCE_LOOP_NOTES.md,
+// change 9). The same candidates in the same order (the StepwiseRanges test), so the same lists;
+// not for merged runs across a periodic z face, which come in pieces (the driver keeps the other).
+template <class Search>
+__global__ void __launch_bounds__(block_size)
+    build_lists_in_step_kernel(ForceInputs in, real reach2, std::uint32_t* index, std::uint32_t* count,
+                               std::uint32_t stride, std::uint32_t capacity, ActiveRange range) {
+    const std::uint32_t end = *range.end;
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    const std::uint32_t lane = threadIdx.x % 32, first = i - lane;
+    if (first >= end) return;  // the whole warp is past the end
+    const bool valid = i < end;
+    const std::uint32_t me = valid ? i : end - 1;  // a lane past the end walks nothing
+    const real4 pos_i = in.pos[me];
+    const bool fluid_i = !is_boundary(in.velrho[me]);
+    const GridView& g = in.grid;
+    // A wall lists fluid only (build_particle_list): a cell's range starts at its fluid, a
+    // merged run holds each cell's walls, which the test drops.
+    const bool walls_out = Search::merge && !fluid_i;
+    std::uint32_t n = 0;
+    Search::visit_ranges_in_step(
+        g, in.cell_start, in.fluid_begin, g.decode(in.cell[me]), valid, !fluid_i,
+        [&](std::uint32_t b, std::uint32_t e, int dx, int dy, typename Search::RangeZ z) {
+            for (std::uint32_t j = b; j < e; ++j) {
+                const real3 rij = separation(pos_i, in.pos[j], dx, dy, z.of(in.cell, j), g.cell_size);
+                if (j == me || dot(rij, rij) >= reach2 || (walls_out && is_boundary(in.velrho[j]))) continue;
+                if (n < capacity) index[std::size_t(n) * stride + i] = j;
+                ++n;
+            }
+        });
+    if (valid) count[i] = n;
+}
+
 template <class Kernel, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
     forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p, real4* __restrict__ force,
@@ -352,15 +389,30 @@ void concentration_gradient(const SubdomainConfig& cfg, const ForceInputs& in, r
     SPH_CUDA_CHECK_LAUNCH();
 }
 
+// SPH_LIST_BUILD=per-lane in the environment builds the lists lane by lane (build_lists_kernel)
+// where the policy walks in step, to time both on one build.
+bool per_lane_list_build_forced() {
+    static const bool forced = [] {
+        const char* v = std::getenv("SPH_LIST_BUILD");
+        return v != nullptr && std::string(v) == "per-lane";
+    }();
+    return forced;
+}
+
 void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
                            std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
                            ActiveRange range, std::uint32_t n, cudaStream_t s) {
     SPH_CUDA_CHECK(cudaMemsetAsync(count, 0, std::size_t(n) * sizeof(std::uint32_t), s));
     if (n == 0) return;
+    const bool in_step = ListedLoopPolicy::build_in_step && !per_lane_list_build_forced();
     dispatch_search(cfg.search, [&](auto srch) {
         using Search = typename decltype(srch)::type;
-        build_lists_kernel<Search><<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity,
-                                                                        range);
+        if (in_step && !(Search::merge && in.grid.periodic_z))
+            build_lists_in_step_kernel<Search>
+                <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
+        else
+            build_lists_kernel<Search>
+                <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

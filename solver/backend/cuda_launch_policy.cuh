@@ -57,6 +57,9 @@ struct ListedLoopPolicySm90 {
     // Measured within 1% either way (change 8).
     static constexpr bool early_loads = true;
     static constexpr int index_lookahead = 2;
+    // The lists built with a warp's lanes walking their stencils in step
+    // (build_lists_in_step_kernel), so that a warp's rows are stored together.
+    static constexpr bool build_in_step = true;
 };
 // Variants that SPH_LISTED_POLICY names at run time, to time them on one build.
 struct ListedLoopNoLookahead : ListedLoopPolicySm90 {  // "no-lookahead"
