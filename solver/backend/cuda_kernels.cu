@@ -175,39 +175,64 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
 
 // The listed loop: one thread per particle over its stored list, cells read as coordinates.
 // The same lists, built with a warp's lanes walking their stencils in step
-// (visit_ranges_in_step, as forces_compacted_kernel): the lanes then store row k of their lists
-// at about the same time, and the L2 completes each row's 32-byte sectors (8 lanes each) before
-// writing them back. Walked one lane at a time (build_lists_kernel), a warp's rows filled far
-// apart, and the writes took ~6.5 of a rebuild's 8.2 ms on the dam break (FORCE_LOOP_NOTES.md,
-// change 9). The same candidates in the same order (the StepwiseRanges test), so the same lists;
-// not for merged runs across a periodic z face, which come in pieces (the driver keeps the other).
+// (visit_ranges_in_step, as forces_compacted_kernel) and their rows stored together: each
+// lane keeps its newest entries in shared memory (a ring of list_stage_rows rows), and after
+// every range the warp stores the rows that all its lanes have filled, 128 coalesced bytes a
+// row. Stored lane by lane (build_lists_kernel), each 4-byte entry went to DRAM as a
+// partly written 32-byte sector: 6.8 GB moved for a 0.8 GB list on the dam break, ~6.5 of a
+// rebuild's 8.2 ms (FORCE_LOOP_NOTES.md, change 9). A lane more than list_stage_rows ahead of
+// the warp's slowest stores the rest of its list itself. The same candidates in the same order
+// (the StepwiseRanges test), so the same lists; not for merged runs across a periodic z face,
+// which come in pieces (the driver keeps the other kernel there).
+constexpr std::uint32_t list_stage_rows = 32;  // 16 KB a block: 46 registers, not shared memory, then bound the occupancy
+
 template <class Search>
 __global__ void __launch_bounds__(block_size)
     build_lists_in_step_kernel(ForceInputs in, real reach2, std::uint32_t* index, std::uint32_t* count,
                                std::uint32_t stride, std::uint32_t capacity, ActiveRange range) {
+    __shared__ std::uint32_t stage[block_size / 32][list_stage_rows][32];
     const std::uint32_t end = *range.end;
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     const std::uint32_t lane = threadIdx.x % 32, first = i - lane;
     if (first >= end) return;  // the whole warp is past the end
     const bool valid = i < end;
     const std::uint32_t me = valid ? i : end - 1;  // a lane past the end walks nothing
+    auto& ring = stage[threadIdx.x / 32];
     const real4 pos_i = in.pos[me];
     const bool fluid_i = !is_boundary(in.velrho[me]);
     const GridView& g = in.grid;
     // A wall lists fluid only (build_particle_list): a cell's range starts at its fluid, a
     // merged run holds each cell's walls, which the test drops.
     const bool walls_out = Search::merge && !fluid_i;
-    std::uint32_t n = 0;
+    std::uint32_t n = 0;                    // this lane's entries so far
+    std::uint32_t stored = 0;               // rows [0, stored) of every lane are in index (warp-uniform)
+    std::uint32_t direct = 0xffffffffu;     // this lane stores its rows from here on itself
+    // Rows [stored, up_to) of every lane that staged them, into index.
+    const auto store_rows = [&](std::uint32_t up_to) {
+        const std::uint32_t mine = min(min(n, direct), capacity);
+        for (std::uint32_t r = stored; r < up_to; ++r)
+            if (valid && r < mine) index[std::size_t(r) * stride + i] = ring[r % list_stage_rows][lane];
+        stored = up_to;
+    };
     Search::visit_ranges_in_step(
         g, in.cell_start, in.fluid_begin, g.decode(in.cell[me]), valid, !fluid_i,
         [&](std::uint32_t b, std::uint32_t e, int dx, int dy, typename Search::RangeZ z) {
             for (std::uint32_t j = b; j < e; ++j) {
                 const real3 rij = separation(pos_i, in.pos[j], dx, dy, z.of(in.cell, j), g.cell_size);
                 if (j == me || dot(rij, rij) >= reach2 || (walls_out && is_boundary(in.velrho[j]))) continue;
-                if (n < capacity) index[std::size_t(n) * stride + i] = j;
+                if (n < capacity) {
+                    if (n >= direct || n - stored >= list_stage_rows) {
+                        if (direct == 0xffffffffu) direct = n;
+                        index[std::size_t(n) * stride + i] = j;
+                    } else {
+                        ring[n % list_stage_rows][lane] = j;
+                    }
+                }
                 ++n;
             }
+            store_rows(__reduce_min_sync(full_warp, valid ? n : 0xffffffffu));
         });
+    store_rows(__reduce_max_sync(full_warp, valid ? min(min(n, direct), capacity) : 0u));
     if (valid) count[i] = n;
 }
 
