@@ -181,7 +181,7 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
 // row. Stored lane by lane (build_lists_kernel), each 4-byte entry went to DRAM as a
 // partly written 32-byte sector: 6.8 GB moved for a 0.8 GB list on the dam break, ~6.5 of a
 // rebuild's 8.2 ms (FORCE_LOOP_NOTES.md, change 9). A lane more than list_stage_rows ahead of
-// the warp's slowest stores the rest of its list itself. The same candidates in the same order
+// the warp's slowest stores the rest of its list itself, and walls store theirs from the start. The same candidates in the same order
 // (the StepwiseRanges test), so the same lists; not for merged runs across a periodic z face,
 // which come in pieces (the driver keeps the other kernel there).
 constexpr std::uint32_t list_stage_rows = 32;  // 16 KB a block: 46 registers, not shared memory, then bound the occupancy
@@ -205,8 +205,13 @@ __global__ void __launch_bounds__(block_size)
     // merged run holds each cell's walls, which the test drops.
     const bool walls_out = Search::merge && !fluid_i;
     std::uint32_t n = 0;                    // this lane's entries so far
-    std::uint32_t stored = 0;               // rows [0, stored) of every lane are in index (warp-uniform)
-    std::uint32_t direct = 0xffffffffu;     // this lane stores its rows from here on itself
+    std::uint32_t stored = 0;               // rows [0, stored) of every staging lane are in index (warp-uniform)
+    // This lane stores its rows from here on itself. A wall lists fluid only, a few entries
+    // where the fluid lanes of its warp list ~200: it stores its own from the start, so as not to
+    // hold theirs back (staged behind it, the fluid lanes ran past the ring and stored theirs
+    // one by one).
+    std::uint32_t direct = valid && fluid_i ? 0xffffffffu : 0u;
+    const bool staging = direct != 0;
     // Rows [stored, up_to) of every lane that staged them, into index.
     const auto store_rows = [&](std::uint32_t up_to) {
         const std::uint32_t mine = min(min(n, direct), capacity);
@@ -230,9 +235,10 @@ __global__ void __launch_bounds__(block_size)
                 }
                 ++n;
             }
-            store_rows(__reduce_min_sync(full_warp, valid ? n : 0xffffffffu));
+            const std::uint32_t filled = __reduce_min_sync(full_warp, staging ? n : 0xffffffffu);
+            if (filled != 0xffffffffu) store_rows(filled);  // no lane of the warp stages: nothing to store
         });
-    store_rows(__reduce_max_sync(full_warp, valid ? min(min(n, direct), capacity) : 0u));
+    store_rows(__reduce_max_sync(full_warp, staging ? min(min(n, direct), capacity) : 0u));
     if (valid) count[i] = n;
 }
 
