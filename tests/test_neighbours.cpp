@@ -109,16 +109,21 @@ std::array<std::uint32_t, 4> entry(std::uint32_t j, int dx, int dy, int dz) {
 // A sorted random scene (half boundary particles) with its cell starts and each cell's first
 // fluid particle, as the GPU's force loop reads them.
 struct SortedCells {
+    SearchOptions opt;  // the case's search: n and Cell Merging
     Grid grid;
     PhysicsParams params;
     ParticleArrays a;
     std::vector<std::uint32_t> start, fluid_begin;
 };
 
-SortedCells sorted_cells(const RangeCase& rc, const SearchOptions& opt, std::uint32_t seed) {
+// A random scene sorted for one RangeCase; each suite passes its own seed_base, and each case
+// gets a seed of its own from it.
+SortedCells sorted_cells(const RangeCase& rc, std::uint32_t seed_base) {
+    const SearchOptions opt{rc.n, rc.merge};
+    const std::uint32_t seed = seed_base + rc.n * 4 + rc.merge * 2 + rc.periodic;
     Scene s = test::random_scene(1200, 600, 0.3, 0.02, seed);
     const bool periodic[3] = {rc.periodic, rc.periodic, rc.periodic};
-    SortedCells out{make_grid(s.lo.data(), s.hi.data(), s.params.support, rc.n, periodic), s.params, {}, {}, {}};
+    SortedCells out{opt, make_grid(s.lo.data(), s.hi.data(), s.params.support, rc.n, periodic), s.params, {}, {}, {}};
     auto d = make_host_subdomain({s.params, out.grid.view, s.kernel, true, opt}, s.size());
     d->upload(make_particle_arrays(s, out.grid));
     d->sort_by_cell();
@@ -153,8 +158,8 @@ class ListedLoopChoices : public ::testing::TestWithParam<RangeCase> {};
 
 TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
     const RangeCase rc = GetParam();
-    const SearchOptions opt{rc.n, rc.merge};
-    const SortedCells sc = sorted_cells(rc, opt, 9090u + rc.n * 4 + rc.merge * 2 + rc.periodic);
+    const SortedCells sc = sorted_cells(rc, 9090u);
+    const SearchOptions& opt = sc.opt;
     const GridView& g = sc.grid.view;
     const ParticleArrays& a = sc.a;
     const PhysicsParams& p = sc.params;
@@ -206,8 +211,8 @@ INSTANTIATE_TEST_SUITE_P(AllStrategies, ListedLoopChoices,
 
 TEST_P(StencilFluidCells, GiveBoundaryParticlesExactlyVisitsFluidCandidates) {
     const RangeCase rc = GetParam();
-    const SearchOptions opt{rc.n, rc.merge};
-    const SortedCells sc = sorted_cells(rc, opt, 777u + rc.n * 4 + rc.merge * 2 + rc.periodic);
+    const SortedCells sc = sorted_cells(rc, 777u);
+    const SearchOptions& opt = sc.opt;
     const Grid& g = sc.grid;
     const ParticleArrays& a = sc.a;
     const std::vector<std::uint32_t>& start = sc.start;
@@ -266,8 +271,8 @@ struct RecordedPairs {
 
 TEST_P(HitMaskTraversal, HandsThePairSumsVisitsNeighboursInOrder) {
     const RangeCase rc = GetParam();
-    const SearchOptions opt{rc.n, rc.merge};
-    const SortedCells sc = sorted_cells(rc, opt, 4242u + rc.n * 4 + rc.merge * 2 + rc.periodic);
+    const SortedCells sc = sorted_cells(rc, 4242u);
+    const SearchOptions& opt = sc.opt;
     const GridView& g = sc.grid.view;
     const ParticleArrays& a = sc.a;
     const PhysicsParams& p = sc.params;
@@ -334,8 +339,8 @@ class StepwiseRanges : public ::testing::TestWithParam<RangeCase> {};
 
 TEST_P(StepwiseRanges, GiveEachParticleItsCandidatesInVisitOrder) {
     const RangeCase rc = GetParam();
-    const SearchOptions opt{rc.n, rc.merge};
-    const SortedCells sc = sorted_cells(rc, opt, 9191u + rc.n * 4 + rc.merge * 2 + rc.periodic);
+    const SortedCells sc = sorted_cells(rc, 9191u);
+    const SearchOptions& opt = sc.opt;
     const GridView& g = sc.grid.view;
     const ParticleArrays& a = sc.a;
     std::size_t candidates = 0, dropped_walls = 0, empty_ranges = 0;
