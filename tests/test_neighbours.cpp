@@ -144,13 +144,15 @@ SortedCells sorted_cells(const RangeCase& rc, std::uint32_t seed_base) {
 }
 
 // The GPU's listed loop (ListedLoopPolicySm90's choices: cells read as coordinates, the
-// density loaded before the support test, the list read one or two entries ahead, walls'
-// lists of fluid only) must give the host's listed loop's sums bit for bit: the same pairs in
-// the same order through the same arithmetic. Both run here, on the host.
-template <int Lookahead>
+// density loaded before the support test, or j's position and velocity-density loaded whole
+// and kept, the list read one or two entries ahead, walls' lists of fluid only) must give the
+// host's listed loop's sums bit for bit: the same pairs in the same order through the same
+// arithmetic. Both run here, on the host.
+template <int Lookahead, bool WholeLoads = false>
 struct GpuLikeListedLoop {
     static constexpr bool packed_cells = true;
     static constexpr bool early_loads = true;
+    static constexpr bool whole_loads = WholeLoads;
     static constexpr int index_lookahead = Lookahead;
 };
 
@@ -196,8 +198,11 @@ TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
         const real4 want = particle_force_listed<CubicSpline, true>(i, host_in, host_list, p, kernel);
         const real4 one = particle_force_listed<CubicSpline, true, GpuLikeListedLoop<1>>(i, gpu_in, gpu_list, p, kernel);
         const real4 two = particle_force_listed<CubicSpline, true, GpuLikeListedLoop<2>>(i, gpu_in, gpu_list, p, kernel);
+        const real4 whole =
+            particle_force_listed<CubicSpline, true, GpuLikeListedLoop<2, true>>(i, gpu_in, gpu_list, p, kernel);
         ASSERT_EQ(std::memcmp(&want, &one, sizeof want), 0) << "particle " << i << ", lookahead 1";
         ASSERT_EQ(std::memcmp(&want, &two, sizeof want), 0) << "particle " << i << ", lookahead 2";
+        ASSERT_EQ(std::memcmp(&want, &whole, sizeof want), 0) << "particle " << i << ", whole loads";
         ++compared;
     }
     EXPECT_GT(compared, n / 2);

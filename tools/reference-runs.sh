@@ -12,7 +12,8 @@
 #           when DSPH (its anchor folder) is set; CASE_COUNT=N runs the first N cases only,
 #           CASES='a;b' these cases, NCU_CASES='a;b' these under Nsight Compute (NCU_KERNELS
 #           the kernels, default regex:forces_; NCU_LAUNCH which launches, default
-#           '--launch-skip 3 --launch-count 1')
+#           '--launch-skip 3 --launch-count 1'; NCU_SECTIONS_EXTRA more, e.g. '--section
+#           MemoryWorkloadAnalysis_Tables')
 #   accuracy: the CUDA tests, the accuracy sweep (needs sphbench-f64: F64=1 gpu-run.sh pack)
 #           and the stability studies (issue 6)
 set -uo pipefail
@@ -86,7 +87,7 @@ forceloop)
         echo "== ncu $bin simulate $args" | tee -a "$out/ncu.txt"
         ncu --clock-control none -k "${NCU_KERNELS:-regex:forces_}" ${NCU_LAUNCH:---launch-skip 3 --launch-count 1} \
           --section SpeedOfLight --section Occupancy --section LaunchStats --section WarpStateStats \
-          --section InstructionStats --section MemoryWorkloadAnalysis \
+          --section InstructionStats --section MemoryWorkloadAnalysis ${NCU_SECTIONS_EXTRA:-} \
           --metrics smsp__thread_inst_executed_per_inst_executed.ratio,smsp__thread_inst_executed_pred_on_per_inst_executed.ratio,smsp__inst_executed.sum,l1tex__t_requests_pipe_lsu_mem_local_op_ld.sum,l1tex__t_requests_pipe_lsu_mem_local_op_st.sum \
           $bin simulate $args --steps 6 --warmup 0 --backend cuda --quiet --out "$out/ncu-scratch" 2>&1 |
           grep -vE '^==PROF==' | tee -a "$out/ncu.txt"

@@ -464,13 +464,13 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
     return longest;
 }
 
-// SPH_LISTED_POLICY=no-lookahead or =occupancy in the environment runs a variant of the
+// SPH_LISTED_POLICY=no-lookahead or =split-loads in the environment runs a variant of the
 // listed loop's policy (cuda_launch_policy.cuh), to time it beside the policy on one build.
 int listed_policy_variant() {
     static const int variant = [] {
         const char* v = std::getenv("SPH_LISTED_POLICY");
         const std::string name = v != nullptr ? v : "";
-        return name == "no-lookahead" ? 1 : name == "occupancy" ? 2 : 0;
+        return name == "no-lookahead" ? 1 : name == "split-loads" ? 2 : 0;
     }();
     return variant;
 }
@@ -490,7 +490,7 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
     if (n == 0) return;
     switch (listed_policy_variant()) {
     case 1: launch_forces_listed<ListedLoopNoLookahead>(cfg, in, list, force, range, n, s); break;
-    case 2: launch_forces_listed<ListedLoopHighOccupancy>(cfg, in, list, force, range, n, s); break;
+    case 2: launch_forces_listed<ListedLoopSplitLoads>(cfg, in, list, force, range, n, s); break;
     default: launch_forces_listed<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
     }
     SPH_CUDA_CHECK_LAUNCH();

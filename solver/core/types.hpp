@@ -80,6 +80,26 @@ SPH_HD real3 add_uncontracted(real3 a, real3 b) {
     return {add_uncontracted(a.x, b.x), add_uncontracted(a.y, b.y), add_uncontracted(a.z, b.z)};
 }
 
+// a[k], loaded whole where the caller writes it and kept in registers. The listed loop
+// (physics/interaction.hpp) reads j's position and velocity-density before the support test;
+// left to itself, nvcc loaded only the density there, then the whole velocity-density and the
+// pressure again behind the test: three gathers of a neighbour's data where two do, in a loop
+// bound by the L1's throughput (ncu, change 10 of bench/FORCE_LOOP_NOTES.md). One asm
+// statement yields all four components at once, so the compiler cannot split the load, nor
+// sink it behind a test that reads one of them; not volatile, so that it stays a read-only
+// (.nc) load like the loop's others. The host reads a[k] plainly.
+SPH_HD real4 load_whole(const real4* a, std::uint32_t k) {
+#if defined(__CUDA_ARCH__) && !defined(SPH_DOUBLE)
+    real4 v;
+    asm("ld.global.nc.v4.f32 {%0, %1, %2, %3}, [%4];"
+                 : "=f"(v.x), "=f"(v.y), "=f"(v.z), "=f"(v.w)
+                 : "l"(a + k));
+    return v;
+#else
+    return a[k];
+#endif
+}
+
 // The index of the lowest set bit of a non-zero mask.
 SPH_HD int lowest_set_bit(std::uint32_t mask) {
 #if defined(__CUDA_ARCH__)

@@ -74,6 +74,11 @@ struct PairBody {
           hydrostatic_drho((p_.rho0 / (p_.c0 * p_.c0)) * p_.gravity) {}
 
     SPH_HD_INLINE PairTerms terms(const ParticleSide& a, std::uint32_t j, const real4& vr_j, const real3& rij, real r2) const {
+        return terms(a, j, in.pos[j].w, vr_j, rij, r2);
+    }
+    // terms() with j's P / rho^2 (its position's w) already loaded by the caller.
+    SPH_HD_INLINE PairTerms terms(const ParticleSide& a, std::uint32_t j, real pressure_j, const real4& vr_j,
+                                  const real3& rij, real r2) const {
         const bool fluid_j = !is_boundary(vr_j);
         const real fac = kernel.grad_factor(sqrt_r(r2));
         PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij)};  // m (v_ij . r_ij) F, grad W = r_ij F
@@ -92,7 +97,7 @@ struct PairBody {
         const real old_vdotr = dot(old_vij, rij);
         real pi_ij = 0;
         if (old_vdotr < 0) pi_ij = fast_divide(-visc_coef * old_vdotr, (r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
-        const real s = -p.mass * (a.pos.w + in.pos[j].w + pi_ij) * fac;
+        const real s = -p.mass * (a.pos.w + pressure_j + pi_ij) * fac;
         t.acc = s * rij;
         // A uniform runtime branch rather than a template flag: compiling the laminar term
         // out would double the force kernels' instantiations (kernel x search x diffusion)
@@ -149,13 +154,23 @@ struct PairSums {
     // One test of all three conditions (bitwise, no short cut): with the wall check behind the
     // support test the compiler sank the load below it.
     SPH_HD_INLINE void add_loaded(std::uint32_t j, const real4& vr_j, const real3& rij, real r2) {
-        const PhysicsParams& p = body.p;
-        const bool skip = (r2 >= p.support2) | (r2 <= real(1e-18) * p.support2) | (!totals.fluid_i & is_boundary(vr_j));
-        if (skip) return;
+        if (outside_or_wall_pair(vr_j, r2)) return;
         totals.accumulate(body.terms(side, j, vr_j, rij, r2));
+    }
+    // add_loaded() with j's whole position too, whose w (P / rho^2) the pair body then takes
+    // from registers instead of loading it again.
+    SPH_HD_INLINE void add_loaded(std::uint32_t j, const real4& pos_j, const real4& vr_j, const real3& rij, real r2) {
+        if (outside_or_wall_pair(vr_j, r2)) return;
+        totals.accumulate(body.terms(side, j, pos_j.w, vr_j, rij, r2));
     }
     SPH_HD bool fluid_i() const { return totals.fluid_i; }
     SPH_HD real4 result() const { return totals.result(body.p); }
+
+  private:
+    SPH_HD_INLINE bool outside_or_wall_pair(const real4& vr_j, real r2) const {
+        const PhysicsParams& p = body.p;
+        return (r2 >= p.support2) | (r2 <= real(1e-18) * p.support2) | (!totals.fluid_i & is_boundary(vr_j));
+    }
 };
 
 // x_i - x_j from cell-relative offsets: (cell_i - cell_j) * cs + off_i - off_j, exact in the
@@ -304,11 +319,14 @@ struct NeighbourList {
 // policy (backend/cuda_launch_policy.cuh), which has the same members.
 //   packed_cells:    read each neighbour's cell from in.cell_coords, not by decoding in.cell
 //   early_loads:     load j's velocity and density with its position, before the support test
+//   whole_loads:     with early_loads, load j's position and velocity-density whole, once
+//                    (load_whole), and keep them to the pair body
 //   index_lookahead: load the list's entry k + L while entry k is summed (0, 1 or 2): a
 //                    GPU's list is read from DRAM, one row of the warp at a time
 struct ListedLoopDefaults {
     static constexpr bool packed_cells = false;
     static constexpr bool early_loads = false;
+    static constexpr bool whole_loads = false;
     static constexpr int index_lookahead = 0;
 };
 
@@ -322,6 +340,7 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
                          const Kernel& kernel) {
     constexpr int lookahead = Choices::index_lookahead;
     static_assert(lookahead >= 0 && lookahead <= 2, "index_lookahead is 0, 1 or 2");
+    static_assert(!Choices::whole_loads || Choices::early_loads, "whole_loads are early loads");
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
     const auto cell_of = [&](std::uint32_t k) {
         if constexpr (Choices::packed_cells) {
@@ -349,11 +368,12 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
             if (k + 2 < n) next2 = entry(k + 2);
         }
         const int3v cj = cell_of(j);
-        const real4 pos_j = in.pos[j];
+        const real4 pos_j = Choices::whole_loads ? load_whole(in.pos, j) : in.pos[j];
         real3 rij;
         if constexpr (Periodic) rij = listed_separation(sums.side.pos, pos_j, ci, cj, in.grid);
         else rij = separation(sums.side.pos, pos_j, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
-        if constexpr (Choices::early_loads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
+        if constexpr (Choices::whole_loads) sums.add_loaded(j, pos_j, load_whole(in.velrho, j), rij, dot(rij, rij));
+        else if constexpr (Choices::early_loads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
         else sums.add(j, rij, dot(rij, rij));
     }
     return sums.result();
