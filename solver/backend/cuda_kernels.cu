@@ -464,13 +464,13 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
     return longest;
 }
 
-// SPH_LISTED_POLICY=no-lookahead or =split-loads in the environment runs a variant of the
+// SPH_LISTED_POLICY=no-lookahead, =split-loads or =large-l1 in the environment runs a variant of the
 // listed loop's policy (cuda_launch_policy.cuh), to time it beside the policy on one build.
 int listed_policy_variant() {
     static const int variant = [] {
         const char* v = std::getenv("SPH_LISTED_POLICY");
         const std::string name = v != nullptr ? v : "";
-        return name == "no-lookahead" ? 1 : name == "split-loads" ? 2 : 0;
+        return name == "no-lookahead" ? 1 : name == "split-loads" ? 2 : name == "large-l1" ? 3 : 0;
     }();
     return variant;
 }
@@ -480,8 +480,12 @@ void launch_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, con
                           ActiveRange range, std::uint32_t n, cudaStream_t s) {
     dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
         using Kernel = typename decltype(k)::type;
-        forces_listed_kernel<Kernel, decltype(diffusion)::value, Policy>
-            <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
+        const auto kernel = forces_listed_kernel<Kernel, decltype(diffusion)::value, Policy>;
+        // Set at every launch, as it holds per device and a run may use several.
+        if constexpr (Policy::shared_carveout >= 0)
+            SPH_CUDA_CHECK(cudaFuncSetAttribute(kernel, cudaFuncAttributePreferredSharedMemoryCarveout,
+                                                Policy::shared_carveout));
+        kernel<<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
     });
 }
 
@@ -491,6 +495,7 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
     switch (listed_policy_variant()) {
     case 1: launch_forces_listed<ListedLoopNoLookahead>(cfg, in, list, force, range, n, s); break;
     case 2: launch_forces_listed<ListedLoopSplitLoads>(cfg, in, list, force, range, n, s); break;
+    case 3: launch_forces_listed<ListedLoopLargeL1>(cfg, in, list, force, range, n, s); break;
     default: launch_forces_listed<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
     }
     SPH_CUDA_CHECK_LAUNCH();
