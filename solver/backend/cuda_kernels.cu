@@ -181,9 +181,10 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
 // row. Stored lane by lane (build_lists_kernel), each 4-byte entry went to DRAM as a
 // partly written 32-byte sector: 6.8 GB moved for a 0.8 GB list on the dam break, ~6.5 of a
 // rebuild's 8.2 ms (FORCE_LOOP_NOTES.md, change 9). A lane more than list_stage_rows ahead of
-// the warp's slowest stores the rest of its list itself, and walls store theirs from the start. The same candidates in the same order
-// (the StepwiseRanges test), so the same lists; not for merged runs across a periodic z face,
-// which come in pieces (the driver keeps the other kernel there).
+// the warp's slowest stores the rest of its list itself, and walls store theirs from the start.
+// The same candidates in the same order (the StepwiseRanges test), so the same lists; not for
+// merged runs across a periodic z face, which come in pieces (the driver keeps the other
+// kernel there).
 constexpr std::uint32_t list_stage_rows = 32;  // 16 KB a block: 46 registers, not shared memory, then bound the occupancy
 
 template <class Search>
@@ -207,9 +208,9 @@ __global__ void __launch_bounds__(block_size)
     std::uint32_t n = 0;                    // this lane's entries so far
     std::uint32_t stored = 0;               // rows [0, stored) of every staging lane are in index (warp-uniform)
     // This lane stores its rows from here on itself. A wall lists fluid only, a few entries
-    // where the fluid lanes of its warp list ~200: it stores its own from the start, so as not to
-    // hold theirs back (staged behind it, the fluid lanes ran past the ring and stored theirs
-    // one by one).
+    // where the fluid lanes of its warp list ~200: it stores its own from the start and does not
+    // count in the warp's filled rows. The expected gain (fluid lanes no longer running past the
+    // ring behind a wall) did not show: the build took the same time either way (change 9).
     std::uint32_t direct = valid && fluid_i ? 0xffffffffu : 0u;
     const bool staging = direct != 0;
     // Rows [stored, up_to) of every lane that staged them, into index.
@@ -464,13 +465,13 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
     return longest;
 }
 
-// SPH_LISTED_POLICY=no-lookahead, =split-loads or =large-l1 in the environment runs a variant of the
+// SPH_LISTED_POLICY=no-lookahead or =split-loads in the environment runs a variant of the
 // listed loop's policy (cuda_launch_policy.cuh), to time it beside the policy on one build.
 int listed_policy_variant() {
     static const int variant = [] {
         const char* v = std::getenv("SPH_LISTED_POLICY");
         const std::string name = v != nullptr ? v : "";
-        return name == "no-lookahead" ? 1 : name == "split-loads" ? 2 : name == "large-l1" ? 3 : 0;
+        return name == "no-lookahead" ? 1 : name == "split-loads" ? 2 : 0;
     }();
     return variant;
 }
@@ -480,12 +481,8 @@ void launch_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, con
                           ActiveRange range, std::uint32_t n, cudaStream_t s) {
     dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
         using Kernel = typename decltype(k)::type;
-        const auto kernel = forces_listed_kernel<Kernel, decltype(diffusion)::value, Policy>;
-        // Set at every launch, as it holds per device and a run may use several.
-        if constexpr (Policy::shared_carveout >= 0)
-            SPH_CUDA_CHECK(cudaFuncSetAttribute(kernel, cudaFuncAttributePreferredSharedMemoryCarveout,
-                                                Policy::shared_carveout));
-        kernel<<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
+        forces_listed_kernel<Kernel, decltype(diffusion)::value, Policy>
+            <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
     });
 }
 
@@ -495,7 +492,6 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
     switch (listed_policy_variant()) {
     case 1: launch_forces_listed<ListedLoopNoLookahead>(cfg, in, list, force, range, n, s); break;
     case 2: launch_forces_listed<ListedLoopSplitLoads>(cfg, in, list, force, range, n, s); break;
-    case 3: launch_forces_listed<ListedLoopLargeL1>(cfg, in, list, force, range, n, s); break;
     default: launch_forces_listed<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
     }
     SPH_CUDA_CHECK_LAUNCH();

@@ -64,10 +64,6 @@ struct ListedLoopPolicySm90 {
     // The lists built with a warp's lanes walking their stencils in step
     // (build_lists_in_step_kernel), so that a warp's rows are stored together.
     static constexpr bool build_in_step = true;
-    // The shared-memory carveout asked of the driver for the listed kernel, in percent of the
-    // SM's L1 and shared memory, or -1 for the driver's own choice (the loop uses no shared
-    // memory; a smaller carveout leaves the L1 more of its 256 KB).
-    static constexpr int shared_carveout = -1;
 };
 // Variants that SPH_LISTED_POLICY names at run time, to time them on one build.
 struct ListedLoopNoLookahead : ListedLoopPolicySm90 {  // "no-lookahead"
@@ -75,9 +71,6 @@ struct ListedLoopNoLookahead : ListedLoopPolicySm90 {  // "no-lookahead"
 };
 struct ListedLoopSplitLoads : ListedLoopPolicySm90 {  // "split-loads": as nvcc places them
     static constexpr bool whole_loads = false;
-};
-struct ListedLoopLargeL1 : ListedLoopPolicySm90 {  // "large-l1": the least shared memory the driver allows
-    static constexpr int shared_carveout = 0;
 };
 
 // One architecture is tuned today (the build targets sm_90); a second one gets its own

@@ -300,7 +300,7 @@ public:
     void advance(const TimeStep& step) override {
         use_device();
         gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(),
-                     keeps_cell_coords() ? cell_coords_.data() : nullptr, force_.data(),
+                     kept_cell_coords(), force_.data(),
                      grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_, active_range(), n_, stream_);
     }
 
@@ -310,7 +310,7 @@ public:
         const std::uint32_t e = std::clamp(end_cell, f, owned_[1]);
         if (e == f) return;
         gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(),
-                     keeps_cell_coords() ? cell_coords_.data() : nullptr, force_.data(),
+                     kept_cell_coords(), force_.data(),
                      grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_,
                      {cell_start_.data() + f, cell_start_.data() + e}, n_, stream_);
     }
@@ -354,10 +354,12 @@ public:
 private:
     ForceInputs inputs() const {
         return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), fluid_begin_.data(),
-                cfg_.grid, keeps_cell_coords() ? cell_coords_.data() : nullptr};
+                cfg_.grid, kept_cell_coords()};
     }
-    // Kept once lists were built (Verlet lists), and from then on by every advance.
+    // Kept once lists were built (Verlet lists), and from then on by every advance; null before.
     bool keeps_cell_coords() const { return n_ > 0 && cell_coords_.size() >= n_; }
+    CellCoords* kept_cell_coords() { return keeps_cell_coords() ? cell_coords_.data() : nullptr; }
+    const CellCoords* kept_cell_coords() const { return keeps_cell_coords() ? cell_coords_.data() : nullptr; }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     // Subdomains of one run live on different GPUs and share the host thread: every entry
     // point makes its GPU current first (cheap when it already is).
