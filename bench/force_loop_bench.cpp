@@ -1,7 +1,7 @@
-// Google Benchmark micro-benchmarks of the hot kernel: the neighbour search with the force
-// loop, one benchmark per search strategy, on the CUDA backend when a GPU is present (timed
-// with CUDA events, as manual time) and on the host otherwise. JSON output
-// (--benchmark_format=json) is what `sphbench compare` reads.
+// Google Benchmark micro-benchmarks of the hot kernels: the neighbour search with the force
+// loop, one benchmark per search strategy, and the build of Verlet lists, on the CUDA backend
+// when a GPU is present (timed with CUDA events, as manual time) and on the host otherwise.
+// JSON output (--benchmark_format=json) is what `sphbench compare` reads.
 //   SPH_BENCH_PARTICLES   fluid particles of the dam break (default 1e6 on a GPU, 2e4 on the host)
 #include <benchmark/benchmark.h>
 
@@ -26,7 +26,8 @@ struct Prepared {
 
 Prepared& prepared(const SearchOptions& s) {
     static std::map<std::string, Prepared> cache;
-    const std::string key = std::to_string(s.cells_per_support) + (s.merge ? "m" : "") + (s.verlet ? "v" : "");
+    const std::string key = std::to_string(s.cells_per_support) + (s.merge ? "m" : "") +
+                            (s.verlet ? "v" + std::to_string(s.skin) : "");
     auto it = cache.find(key);
     if (it != cache.end()) return it->second;
     const bool gpu = cuda_backend_available();
@@ -62,6 +63,33 @@ void force_loop(benchmark::State& state, SearchOptions s) {
     state.SetLabel(p.sub->device_name());
 }
 
+// One rebuild of the Verlet lists (the list build kernel and the longest-list reduction, on
+// the sorted particles; the sort is the cell search's and not timed here).
+void list_build(benchmark::State& state, SearchOptions s) {
+    Prepared& p = prepared(s);
+    PhaseClock& clock = p.sub->clock();
+    const real skin = real(s.skin * p.scene.params.support);
+    for (auto _ : state) {
+        clock.begin(Phase::neighbour_list);
+        p.sub->build_neighbour_list(skin);
+        clock.end(Phase::neighbour_list);
+        state.SetIterationTime(clock.collect()[std::size_t(Phase::neighbour_list)] * 1e-3);
+    }
+    state.counters["particles"] = double(p.scene.size());
+    state.counters["list_bytes_per_particle"] = double(p.sub->neighbour_list_bytes()) / double(p.scene.size());
+    state.SetLabel(p.sub->device_name());
+}
+
+// Verlet lists as the README's benchmarks run them: cells of the support with a skin of 0.1
+// supports, and half-size cells with a skin of 0.05 (--cells-per-support 2 --skin 0.05).
+SearchOptions verlet_options(int cells_per_support, double skin) {
+    SearchOptions s;
+    s.cells_per_support = cells_per_support;
+    s.verlet = true;
+    s.skin = skin;
+    return s;
+}
+
 const int registered = [] {
     for (int n = 1; n <= 4; ++n)
         for (bool merge : {false, true}) {
@@ -70,11 +98,14 @@ const int registered = [] {
                 ->UseManualTime()
                 ->Unit(benchmark::kMillisecond);
         }
-    SearchOptions verlet;
-    verlet.verlet = true;
-    benchmark::RegisterBenchmark("force_loop/verlet_list", force_loop, verlet)
-        ->UseManualTime()
-        ->Unit(benchmark::kMillisecond);
+    for (const auto& [suffix, options] : {std::pair{"", verlet_options(1, 0.1)}, std::pair{"_n2", verlet_options(2, 0.05)}}) {
+        benchmark::RegisterBenchmark((std::string("force_loop/verlet_list") + suffix).c_str(), force_loop, options)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark((std::string("list_build/verlet_list") + suffix).c_str(), list_build, options)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond);
+    }
     return 0;
 }();
 
