@@ -48,12 +48,12 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         solver.search = cal.best;
         char line[96];
         for (const auto& t : cal.trials) {
-            std::snprintf(line, sizeof line, "%sn%d%s=%.3fms", res.search_choice.empty() ? "" : " ",
-                          t.search.cells_per_support, t.search.merge ? "m" : "", t.median_step_ms);
+            std::snprintf(line, sizeof line, "%s%s=%.3fms", res.search_choice.empty() ? "" : " ",
+                          search_label(t.search).c_str(), t.mean_step_ms);
             res.search_choice += line;
         }
-        std::snprintf(line, sizeof line, "chose n%d%s; ", cal.best.cells_per_support, cal.best.merge ? "m" : "");
-        res.search_choice = line + res.search_choice;
+        res.search_choice = "chose " + search_label(cal.best) + "; " + res.search_choice;
+        if (!cal.verlet_skipped.empty()) res.search_choice += " (no Verlet lists: " + cal.verlet_skipped + ")";
     }
     Simulation sim(scene, solver);
     res.device = sim.device_name();

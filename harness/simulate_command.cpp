@@ -65,7 +65,7 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
         std::printf("warning: %zu fluid particles left the domain and were dropped\n", last.out_of_domain);
     if (!r.transport.empty()) std::printf("transport between subdomains: %s\n", r.transport.c_str());
     if (!r.rank_transport.empty()) std::printf("rank_transport: %s\n", r.rank_transport.c_str());
-    if (!r.search_choice.empty()) std::printf("search calibration (median step): %s\n", r.search_choice.c_str());
+    if (!r.search_choice.empty()) std::printf("search calibration (mean step; Verlet lists rebuilt every 5 steps): %s\n", r.search_choice.c_str());
     for (const auto& [k, v] : r.validation_summary) std::printf("validation: %s = %.6g\n", k.c_str(), v);
     for (const auto& f : r.files) std::printf("wrote %s\n", f.c_str());
 }
@@ -88,8 +88,8 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     cmd->add_option("--out", args->out, "output folder")->capture_default_str();
     cmd->add_flag("--quiet", args->quiet, "no progress line");
     cmd->add_flag("--auto-search", args->auto_search,
-                  "time every search strategy for a few steps first and run the fastest (overrides --merge and "
-                  "--cells-per-support)");
+                  "time every search strategy for a few steps first, Verlet lists too (one subdomain), and run the "
+                  "fastest (overrides --merge, --cells-per-support, --verlet and --skin)");
     auto* validate = cmd->add_option("--validate", args->validate_every,
                                      "evaluate the scene's validation metric every DT simulated seconds (dambreak: surge "
                                      "front against Martin and Moyce; tank: hydrostatic pressure) into SCENE_validation.csv")
