@@ -74,11 +74,19 @@ struct PairBody {
           hydrostatic_drho((p_.rho0 / (p_.c0 * p_.c0)) * p_.gravity) {}
 
     SPH_HD_INLINE PairTerms terms(const ParticleSide& a, std::uint32_t j, const real4& vr_j, const real3& rij, real r2) const {
-        return terms(a, j, in.pos[j].w, vr_j, rij, r2);
+        return terms_with(a, j, [&] { return in.pos[j].w; }, vr_j, rij, r2);
     }
     // terms() with j's P / rho^2 (its position's w) already loaded by the caller.
     SPH_HD_INLINE PairTerms terms(const ParticleSide& a, std::uint32_t j, real pressure_j, const real4& vr_j,
                                   const real3& rij, real r2) const {
+        return terms_with(a, j, [pressure_j] { return pressure_j; }, vr_j, rij, r2);
+    }
+    // pressure_j() gives j's P / rho^2 where the momentum term needs it: the cell searches load
+    // it there (loaded first, it stayed live through the whole body, and the GPU's cell-search
+    // kernels spilled: make perf-check), the listed loop passes the value it loaded.
+    template <class PressureOf>
+    SPH_HD_INLINE PairTerms terms_with(const ParticleSide& a, std::uint32_t j, const PressureOf& pressure_j,
+                                       const real4& vr_j, const real3& rij, real r2) const {
         const bool fluid_j = !is_boundary(vr_j);
         const real fac = kernel.grad_factor(sqrt_r(r2));
         PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij)};  // m (v_ij . r_ij) F, grad W = r_ij F
@@ -97,7 +105,7 @@ struct PairBody {
         const real old_vdotr = dot(old_vij, rij);
         real pi_ij = 0;
         if (old_vdotr < 0) pi_ij = fast_divide(-visc_coef * old_vdotr, (r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
-        const real s = -p.mass * (a.pos.w + pressure_j + pi_ij) * fac;
+        const real s = -p.mass * (a.pos.w + pressure_j() + pi_ij) * fac;
         t.acc = s * rij;
         // A uniform runtime branch rather than a template flag: compiling the laminar term
         // out would double the force kernels' instantiations (kernel x search x diffusion)
