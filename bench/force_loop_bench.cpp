@@ -98,7 +98,8 @@ const int registered = [] {
                 ->UseManualTime()
                 ->Unit(benchmark::kMillisecond);
         }
-    for (const auto& [suffix, options] : {std::pair{"", verlet_options(1, 0.1)}, std::pair{"_n2", verlet_options(2, 0.05)}}) {
+    for (const auto& [suffix, options] :
+         {std::pair{"", verlet_options(1, 0.1)}, std::pair{"_n2", verlet_options(2, 0.05)}}) {
         benchmark::RegisterBenchmark((std::string("force_loop/verlet_list") + suffix).c_str(), force_loop, options)
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond);
