@@ -154,14 +154,35 @@ struct GpuLikeListedLoop {
     static constexpr bool early_loads = true;
     static constexpr bool whole_loads = WholeLoads;
     static constexpr int index_lookahead = Lookahead;
+    static constexpr bool entry_offsets = false;
 };
+
+// The lists a rebuild gives every particle inside the domain, as the GPU builds them (walls'
+// lists of fluid only where in.fluid_begin is set), with plain or ListEntry entries.
+template <bool CellOffsets = false>
+void build_all_lists(const SortedCells& sc, const ForceInputs& in, real reach, std::uint32_t capacity,
+                     std::vector<std::uint32_t>& index, std::vector<std::uint32_t>& count) {
+    const std::uint32_t n = std::uint32_t(sc.a.size());
+    const GridView& g = sc.grid.view;
+    index.assign(std::size_t(capacity) * n, 0);
+    count.assign(n, 0);
+    dispatch_search(sc.opt, [&](auto tag) {
+        using Search = typename decltype(tag)::type;
+        if constexpr (!CellOffsets || Search::n <= ListEntry::reach_cells) {
+            for (std::uint32_t i = 0; i < n; ++i)
+                if (sc.a.cell[i] < g.out_of_domain())
+                    count[i] = build_particle_list<Search, CellOffsets>(i, in, reach * reach, index.data(), n, capacity);
+        } else {
+            FAIL() << "a stencil too wide for cell offsets";
+        }
+    });
+}
 
 class ListedLoopChoices : public ::testing::TestWithParam<RangeCase> {};
 
 TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
     const RangeCase rc = GetParam();
     const SortedCells sc = sorted_cells(rc, 9090u);
-    const SearchOptions& opt = sc.opt;
     const GridView& g = sc.grid.view;
     const ParticleArrays& a = sc.a;
     const PhysicsParams& p = sc.params;
@@ -175,20 +196,15 @@ TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
     gpu_in.cell_coords = coords.data();
     const real reach = real(1.1) * p.support;
     const std::uint32_t capacity = 400;
-    auto build = [&](const ForceInputs& in, std::vector<std::uint32_t>& index, std::vector<std::uint32_t>& count) {
-        index.assign(std::size_t(capacity) * n, 0);
-        count.assign(n, 0);
-        dispatch_search(opt, [&](auto tag) {
-            using Search = typename decltype(tag)::type;
-            for (std::uint32_t i = 0; i < n; ++i)
-                if (a.cell[i] < g.out_of_domain())
-                    count[i] = build_particle_list<Search>(i, in, reach * reach, index.data(), n, capacity);
-        });
-    };
-    std::vector<std::uint32_t> host_index, host_count, gpu_index, gpu_count;
-    build(host_in, host_index, host_count);
-    build(gpu_in, gpu_index, gpu_count);
+    std::vector<std::uint32_t> host_index, host_count, gpu_index, gpu_count, coded_index, coded_count;
+    build_all_lists(sc, host_in, reach, capacity, host_index, host_count);
+    build_all_lists(sc, gpu_in, reach, capacity, gpu_index, gpu_count);
     const NeighbourList host_list{host_index.data(), host_count.data(), n}, gpu_list{gpu_index.data(), gpu_count.data(), n};
+    // Entries with cell offsets (open grids): at a rebuild the frame is the positions themselves.
+    ForceInputs framed_in = gpu_in;
+    framed_in.build_frame = a.pos.data();
+    if (!rc.periodic) build_all_lists<true>(sc, gpu_in, reach, capacity, coded_index, coded_count);
+    const NeighbourList coded_list{coded_index.data(), coded_count.data(), n, true};
     const CubicSpline kernel(p.h);
     std::size_t walls_shorter = 0, compared = 0;
     for (std::uint32_t i = 0; i < n; ++i) {
@@ -203,6 +219,12 @@ TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
         ASSERT_EQ(std::memcmp(&want, &one, sizeof want), 0) << "particle " << i << ", lookahead 1";
         ASSERT_EQ(std::memcmp(&want, &two, sizeof want), 0) << "particle " << i << ", lookahead 2";
         ASSERT_EQ(std::memcmp(&want, &whole, sizeof want), 0) << "particle " << i << ", whole loads";
+        if (!rc.periodic) {
+            ASSERT_EQ(coded_count[i], gpu_count[i]);
+            const real4 coded = particle_force_listed<CubicSpline, true, WithEntryOffsets<GpuLikeListedLoop<2, true>>>(
+                i, framed_in, coded_list, p, kernel);
+            ASSERT_EQ(std::memcmp(&want, &coded, sizeof want), 0) << "particle " << i << ", entries with cell offsets";
+        }
         ++compared;
     }
     EXPECT_GT(compared, n / 2);
@@ -212,6 +234,110 @@ TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
 INSTANTIATE_TEST_SUITE_P(AllStrategies, ListedLoopChoices,
                          ::testing::Values(RangeCase{1, false, false}, RangeCase{2, true, false},
                                            RangeCase{1, false, true}, RangeCase{2, true, true}),
+                         range_case_name);
+
+// Between rebuilds the GPU keeps, for lists with cell offsets, each particle's position against
+// its cell of the rebuild (particle_advance with a build frame), where the plain entries read
+// the cells that advance keeps up. After a move of up to ~0.5 cells, which takes many
+// particles into other cells and some out of the domain, both loops must give the same sums:
+// to the bit for a particle whose pairs all stayed in their cells (the frame is then the
+// position itself), within rounding for the rest. Wrong cell offsets would be off by a cell.
+class ListedLoopBuildFrame : public ::testing::TestWithParam<RangeCase> {};
+
+TEST_P(ListedLoopBuildFrame, FollowsParticlesIntoOtherCells) {
+    const RangeCase rc = GetParam();
+    const SortedCells sc = sorted_cells(rc, 5151u);
+    const GridView& g = sc.grid.view;
+    const PhysicsParams& p = sc.params;
+    const std::uint32_t n = std::uint32_t(sc.a.size());
+    const real reach = real(1.1) * p.support;
+    const std::uint32_t capacity = 400;
+    std::vector<CellCoords> coords(n);
+    for (std::uint32_t i = 0; i < n; ++i) coords[i] = pack_cell_coords(g.decode(sc.a.cell[i]), sc.a.cell[i] < g.out_of_domain());
+    const ForceInputs rebuilt{sc.a.pos.data(), sc.a.velrho.data(), sc.a.velrho_prev.data(), sc.a.cell.data(),
+                              sc.start.data(), sc.fluid_begin.data(), g, coords.data()};
+    std::vector<std::uint32_t> plain_index, plain_count, coded_index, coded_count;
+    build_all_lists(sc, rebuilt, reach, capacity, plain_index, plain_count);
+    build_all_lists<true>(sc, rebuilt, reach, capacity, coded_index, coded_count);
+
+    // The same move twice: cells kept up (plain entries) and cells frozen with a frame.
+    ParticleArrays kept = sc.a, framed = sc.a;
+    std::vector<CellCoords> kept_coords = coords, frozen_coords = coords;
+    std::vector<real4> frame(sc.a.pos);
+    std::mt19937 rng(99u);
+    std::uniform_real_distribution<float> u(-1, 1);
+    // Only the fluid of the grid's upper half in x moves: the lower half keeps particles whose
+    // pairs all stay in their cells.
+    for (std::uint32_t i = 0; i < n; ++i)
+        if (!is_boundary(sc.a.velrho[i]) && sc.a.cell[i] < g.out_of_domain() && 2 * g.decode(sc.a.cell[i]).x >= g.nx) {
+            const real4 v{u(rng), u(rng), u(rng), density(sc.a.velrho[i])};
+            kept.velrho[i] = framed.velrho[i] = v;
+        }
+    const std::vector<real4> force(n, real4{0, 0, 0, 0});
+    const TimeStep step = euler_step(real(0.3) * g.cell_size.x);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        particle_advance(i, kept.pos.data(), kept.velrho.data(), kept.velrho_prev.data(), kept.cell.data(),
+                         KeptCells{kept_coords.data(), nullptr}, force.data(), nullptr, step, g, p);
+        particle_advance(i, framed.pos.data(), framed.velrho.data(), framed.velrho_prev.data(), framed.cell.data(),
+                         KeptCells{frozen_coords.data(), frame.data()}, force.data(), nullptr, step, g, p);
+    }
+    ASSERT_EQ(std::memcmp(kept.pos.data(), framed.pos.data(), n * sizeof(real4)), 0);
+    ASSERT_EQ(kept.cell, framed.cell);
+    std::vector<bool> moved(n);
+    std::size_t changed_cells = 0, left = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        moved[i] = kept.cell[i] != sc.a.cell[i];
+        changed_cells += moved[i];
+        left += kept.cell[i] >= g.out_of_domain() && sc.a.cell[i] < g.out_of_domain();
+    }
+    EXPECT_GT(changed_cells, n / 20);
+    EXPECT_GT(left, 0u);
+
+    const ForceInputs plain_in{kept.pos.data(), kept.velrho.data(), kept.velrho_prev.data(), kept.cell.data(),
+                               sc.start.data(), sc.fluid_begin.data(), g, kept_coords.data()};
+    ForceInputs framed_in{framed.pos.data(), framed.velrho.data(), framed.velrho_prev.data(), framed.cell.data(),
+                          sc.start.data(), sc.fluid_begin.data(), g, frozen_coords.data()};
+    framed_in.build_frame = frame.data();
+    const NeighbourList plain_list{plain_index.data(), plain_count.data(), n};
+    const NeighbourList coded_list{coded_index.data(), coded_count.data(), n, true};
+    const CubicSpline kernel(p.h);
+    std::vector<real4> want(n), got(n);
+    std::vector<bool> untouched(n, false);
+    double scale = 0, drho_scale = 0;  // the largest |acceleration| and |d rho / dt|: the sums cancel
+    std::size_t compared = 0, bitwise = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (sc.a.cell[i] >= g.out_of_domain() || kept.cell[i] >= g.out_of_domain()) continue;
+        want[i] = particle_force_listed<CubicSpline, true, GpuLikeListedLoop<2, true>>(i, plain_in, plain_list, p, kernel);
+        got[i] = particle_force_listed<CubicSpline, true, WithEntryOffsets<GpuLikeListedLoop<2, true>>>(
+            i, framed_in, coded_list, p, kernel);
+        bool still = !moved[i];
+        for (std::uint32_t k = 0; k < plain_count[i]; ++k) still = still && !moved[plain_index[std::size_t(k) * n + i]];
+        untouched[i] = still;
+        scale = std::max(scale, std::sqrt(double(dot(xyz(want[i]), xyz(want[i])))));
+        drho_scale = std::max(drho_scale, std::abs(double(want[i].w)));
+        ++compared;
+    }
+    ASSERT_GT(scale, 0.0);
+    ASSERT_GT(drho_scale, 0.0);
+    for (std::uint32_t i = 0; i < n; ++i) {
+        if (sc.a.cell[i] >= g.out_of_domain() || kept.cell[i] >= g.out_of_domain()) continue;
+        if (untouched[i]) {
+            ASSERT_EQ(std::memcmp(&want[i], &got[i], sizeof(real4)), 0) << "particle " << i << ", nothing changed cells";
+            ++bitwise;
+        }
+        const real3 d = xyz(want[i]) - xyz(got[i]);
+        EXPECT_LE(std::sqrt(double(dot(d, d))), 1e-5 * scale) << "particle " << i;
+        EXPECT_LE(std::abs(double(want[i].w) - double(got[i].w)), 1e-5 * drho_scale) << "particle " << i << ", d rho / dt";
+    }
+    EXPECT_GT(compared, n / 2);
+    EXPECT_GT(bitwise, 0u);
+    EXPECT_LT(bitwise, compared);
+}
+
+INSTANTIATE_TEST_SUITE_P(OpenGrids, ListedLoopBuildFrame,
+                         ::testing::Values(RangeCase{1, false, false}, RangeCase{1, true, false},
+                                           RangeCase{2, false, false}, RangeCase{2, true, false},
+                                           RangeCase{3, true, false}),
                          range_case_name);
 
 TEST_P(StencilFluidCells, GiveBoundaryParticlesExactlyVisitsFluidCandidates) {

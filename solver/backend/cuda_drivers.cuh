@@ -57,9 +57,14 @@ void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* fo
 // Particle shifting's concentration gradient (cell search only).
 void concentration_gradient(const SubdomainConfig& cfg, const ForceInputs& in, real4* grad_c, ActiveRange range,
                             std::uint32_t n, cudaStream_t s);
+// Whether a subdomain of n particles stores its lists with cell offsets (ListEntry): open
+// grids, stencils of at most ListEntry::reach_cells, fewer than 2^23 particles, and not
+// SPH_LIST_ENTRIES=plain in the environment (which times the plain entries on one build).
+bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n);
 // Writes each particle's list and count; returns nothing (the caller reduces the counts).
+// cell_offsets writes ListEntry codes (searches of at most ListEntry::reach_cells a side).
 void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
-                           std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
+                           std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, bool cell_offsets,
                            ActiveRange range, std::uint32_t n, cudaStream_t s);
 // The longest list, on the host (synchronises the stream).
 std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* temp, std::size_t temp_bytes,
@@ -67,13 +72,14 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
 std::size_t longest_list_temp_bytes(std::uint32_t n);
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
                            ActiveRange range, std::uint32_t n, cudaStream_t s);
-// cell_coords: null, or each particle's cell as coordinates, kept up with cell (the listed loop's).
-void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, CellCoords* cell_coords,
+// kept: what the listed loop reads of each particle's cell, kept up between rebuilds (KeptCells).
+void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const KeptCells& kept,
              const real4* force, const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg,
              ActiveRange range, std::uint32_t n, cudaStream_t s);
-// Each particle's cell as coordinates, from the linear cells (after a sort).
-void fill_cell_coords(const std::uint32_t* cell, CellCoords* cell_coords, const GridView& g, std::uint32_t n,
-                      cudaStream_t s);
+// Each particle's cell as coordinates, from the linear cells (after a sort), and, where kept
+// has a build frame, its position as the frame's start.
+void fill_cell_coords(const std::uint32_t* cell, const real4* pos, const KeptCells& kept, const GridView& g,
+                      std::uint32_t n, cudaStream_t s);
 // Bytes of temporary storage reduce_stats needs for n particles.
 std::size_t reduce_stats_temp_bytes(std::uint32_t n);
 void reduce_stats(const real4* velrho, const real4* velrho_prev, const real4* force, const std::uint32_t* id,

@@ -164,13 +164,13 @@ __global__ void __launch_bounds__(block_size) concentration_gradient_kernel(Forc
     grad_c[i] = particle_concentration_gradient<Kernel, Search>(i, in, p, kernel);
 }
 
-template <class Search>
+template <class Search, bool CellOffsets>
 __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in, real reach2, std::uint32_t* index,
                                                                  std::uint32_t* count, std::uint32_t stride,
                                                                  std::uint32_t capacity, ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= *range.end) return;
-    count[i] = build_particle_list<Search>(i, in, reach2, index, stride, capacity);
+    count[i] = build_particle_list<Search, CellOffsets>(i, in, reach2, index, stride, capacity);
 }
 
 // The listed loop: one thread per particle over its stored list, cells read as coordinates.
@@ -184,10 +184,10 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
 // the warp's slowest stores the rest of its list itself, and walls store theirs from the start.
 // The same candidates in the same order (the StepwiseRanges test), so the same lists; not for
 // merged runs across a periodic z face, which come in pieces (the driver keeps the other
-// kernel there).
+// kernel there). CellOffsets stores ListEntry codes, as build_particle_list.
 constexpr std::uint32_t list_stage_rows = 32;  // 16 KB a block: 46 registers, not shared memory, then bound the occupancy
 
-template <class Search>
+template <class Search, bool CellOffsets>
 __global__ void __launch_bounds__(block_size)
     build_lists_in_step_kernel(ForceInputs in, real reach2, std::uint32_t* index, std::uint32_t* count,
                                std::uint32_t stride, std::uint32_t capacity, ActiveRange range) {
@@ -224,14 +224,16 @@ __global__ void __launch_bounds__(block_size)
         g, in.cell_start, in.fluid_begin, g.decode(in.cell[me]), valid, !fluid_i,
         [&](std::uint32_t b, std::uint32_t e, int dx, int dy, typename Search::RangeZ z) {
             for (std::uint32_t j = b; j < e; ++j) {
-                const real3 rij = separation(pos_i, in.pos[j], dx, dy, z.of(in.cell, j), g.cell_size);
+                const int dz = z.of(in.cell, j);
+                const real3 rij = separation(pos_i, in.pos[j], dx, dy, dz, g.cell_size);
                 if (j == me || dot(rij, rij) >= reach2 || (walls_out && is_boundary(in.velrho[j]))) continue;
                 if (n < capacity) {
+                    const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, dx, dy, dz) : j;
                     if (n >= direct || n - stored >= list_stage_rows) {
                         if (direct == 0xffffffffu) direct = n;
-                        index[std::size_t(n) * stride + i] = j;
+                        index[std::size_t(n) * stride + i] = entry;
                     } else {
-                        ring[n % list_stage_rows][lane] = j;
+                        ring[n % list_stage_rows][lane] = entry;
                     }
                 }
                 ++n;
@@ -258,19 +260,23 @@ __global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
 }
 
 template <bool IntegrateBoundary>
-__global__ void advance_kernel(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell,
-                               CellCoords* cell_coords, const real4* force, const real4* grad_c, TimeStep step,
-                               GridView g, PhysicsParams p, ActiveRange range) {
+__global__ void advance_kernel(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, KeptCells kept,
+                               const real4* force, const real4* grad_c, TimeStep step, GridView g, PhysicsParams p,
+                               ActiveRange range) {
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= *range.end) return;
-    particle_advance<IntegrateBoundary>(i, pos, velrho, velrho_prev, cell, cell_coords, force, grad_c, step, g, p);
+    particle_advance<IntegrateBoundary>(i, pos, velrho, velrho_prev, cell, kept, force, grad_c, step, g, p);
 }
 
-__global__ void cell_coords_kernel(const std::uint32_t* cell, CellCoords* cell_coords, GridView g, std::uint32_t n) {
+__global__ void cell_coords_kernel(const std::uint32_t* cell, const real4* pos, KeptCells kept, GridView g,
+                                   std::uint32_t n) {
     const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
     if (i >= n) return;
     const std::uint32_t c = cell[i];
-    cell_coords[i] = pack_cell_coords(g.decode(c), c < g.out_of_domain());
+    const bool inside = c < g.out_of_domain();
+    kept.coords[i] = pack_cell_coords(g.decode(c), inside);
+    if (kept.build_frame)
+        kept.build_frame[i] = inside ? pos[i] : real4{real(1e15), real(1e15), real(1e15), pos[i].w};
 }
 
 template <class Search>
@@ -431,20 +437,41 @@ bool per_lane_list_build_forced() {
     return forced;
 }
 
+bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n) {
+    static const bool plain = [] {
+        const char* v = std::getenv("SPH_LIST_ENTRIES");
+        return v != nullptr && std::string(v) == "plain";
+    }();
+    return !plain && !cfg.grid.any_periodic() && ListEntry::fits(n, cfg.search.cells_per_support);
+}
+
+template <class Search, bool CellOffsets>
+void launch_list_build(const ForceInputs& in, real reach2, std::uint32_t* index, std::uint32_t* count,
+                       std::uint32_t stride, std::uint32_t capacity, ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    const bool in_step = ListedLoopPolicy::build_in_step && !per_lane_list_build_forced();
+    if (in_step && !(Search::merge && in.grid.periodic_z))
+        build_lists_in_step_kernel<Search, CellOffsets>
+            <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
+    else
+        build_lists_kernel<Search, CellOffsets>
+            <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
+}
+
 void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
-                           std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
+                           std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, bool cell_offsets,
                            ActiveRange range, std::uint32_t n, cudaStream_t s) {
     SPH_CUDA_CHECK(cudaMemsetAsync(count, 0, std::size_t(n) * sizeof(std::uint32_t), s));
     if (n == 0) return;
-    const bool in_step = ListedLoopPolicy::build_in_step && !per_lane_list_build_forced();
     dispatch_search(cfg.search, [&](auto srch) {
         using Search = typename decltype(srch)::type;
-        if (in_step && !(Search::merge && in.grid.periodic_z))
-            build_lists_in_step_kernel<Search>
-                <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
-        else
-            build_lists_kernel<Search>
-                <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
+        if constexpr (Search::n <= ListEntry::reach_cells) {
+            if (cell_offsets) {
+                launch_list_build<Search, true>(in, reach2, index, count, stride, capacity, range, n, s);
+                return;
+            }
+        }
+        if (cell_offsets) throw RunError("lists with cell offsets need a stencil of at most 3 cells a side");
+        launch_list_build<Search, false>(in, reach2, index, count, stride, capacity, range, n, s);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }
@@ -486,34 +513,43 @@ void launch_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, con
     });
 }
 
+template <class Policy>
+void launch_forces_listed_layout(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list,
+                                 real4* force, ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    if (list.cell_offsets) launch_forces_listed<WithEntryOffsets<Policy>>(cfg, in, list, force, range, n, s);
+    else launch_forces_listed<Policy>(cfg, in, list, force, range, n, s);
+}
+
 void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
                            ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
+    if (list.cell_offsets && (in.grid.any_periodic() || in.build_frame == nullptr))
+        throw RunError("a list with cell offsets needs an open grid and the positions of its rebuild");
     switch (listed_policy_variant()) {
-    case 1: launch_forces_listed<ListedLoopNoLookahead>(cfg, in, list, force, range, n, s); break;
-    case 2: launch_forces_listed<ListedLoopSplitLoads>(cfg, in, list, force, range, n, s); break;
-    default: launch_forces_listed<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
+    case 1: launch_forces_listed_layout<ListedLoopNoLookahead>(cfg, in, list, force, range, n, s); break;
+    case 2: launch_forces_listed_layout<ListedLoopSplitLoads>(cfg, in, list, force, range, n, s); break;
+    default: launch_forces_listed_layout<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
     }
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, CellCoords* cell_coords,
+void advance(real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell, const KeptCells& kept,
              const real4* force, const real4* grad_c, const TimeStep& step, const SubdomainConfig& cfg,
              ActiveRange range, std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
     if (cfg.integrate_boundary)
-        advance_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, cell_coords, force,
-                                                                   grad_c, step, cfg.grid, cfg.params, range);
+        advance_kernel<true><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, kept, force, grad_c,
+                                                                   step, cfg.grid, cfg.params, range);
     else
-        advance_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, cell_coords, force,
-                                                                    grad_c, step, cfg.grid, cfg.params, range);
+        advance_kernel<false><<<blocks_for(n), block_size, 0, s>>>(pos, velrho, velrho_prev, cell, kept, force, grad_c,
+                                                                    step, cfg.grid, cfg.params, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 
-void fill_cell_coords(const std::uint32_t* cell, CellCoords* cell_coords, const GridView& g, std::uint32_t n,
-                      cudaStream_t s) {
+void fill_cell_coords(const std::uint32_t* cell, const real4* pos, const KeptCells& kept, const GridView& g,
+                      std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
-    cell_coords_kernel<<<blocks_for(n), block_size, 0, s>>>(cell, cell_coords, g, n);
+    cell_coords_kernel<<<blocks_for(n), block_size, 0, s>>>(cell, pos, kept, g, n);
     SPH_CUDA_CHECK_LAUNCH();
 }
 

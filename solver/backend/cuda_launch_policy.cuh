@@ -61,6 +61,9 @@ struct ListedLoopPolicySm90 {
     // velocity-density and the pressure in three loads, not one (change 10).
     static constexpr bool whole_loads = true;
     static constexpr int index_lookahead = 2;
+    // Not a tuning but the list's layout: the driver takes WithEntryOffsets<> of this policy
+    // where the lists carry cell offsets (gpu::lists_take_cell_offsets).
+    static constexpr bool entry_offsets = false;
     // The lists built with a warp's lanes walking their stencils in step
     // (build_lists_in_step_kernel), so that a warp's rows are stored together.
     static constexpr bool build_in_step = true;

@@ -271,9 +271,12 @@ public:
                            " cells along an axis; this one has " + std::to_string(g.nx) + " x " + std::to_string(g.ny) +
                            " x " + std::to_string(g.nz) + " (use a cell search: drop --verlet)");
         if (list_count_.size() < n_) list_count_.allocate(n_);
-        // The listed loop reads every neighbour's cell as coordinates; advance keeps them from here on.
+        // The listed loop reads every neighbour's cell as coordinates, or, with cell offsets in
+        // its entries, positions against the rebuild's cells; advance keeps them from here on.
+        list_cell_offsets_ = gpu::lists_take_cell_offsets(cfg_, n_);
         if (cell_coords_.size() < n_) cell_coords_.allocate(n_);
-        gpu::fill_cell_coords(cell_.data(), cell_coords_.data(), g, n_, stream_);
+        if (list_cell_offsets_ && build_frame_.size() < n_) build_frame_.allocate(n_);
+        gpu::fill_cell_coords(cell_.data(), pos_.data(), kept_cells(), g, n_, stream_);
         for (int attempt = 0; attempt < 2; ++attempt) {
             const std::size_t need = std::size_t(list_capacity_) * n_;
             if (list_index_.size() < need) {
@@ -281,7 +284,7 @@ public:
                 list_index_.allocate(need);
             }
             gpu::build_neighbour_lists(cfg_, inputs(), reach * reach, list_index_.data(), list_count_.data(), n_,
-                                       list_capacity_, active_range(), n_, stream_);
+                                       list_capacity_, list_cell_offsets_, active_range(), n_, stream_);
             const std::uint32_t longest =
                 gpu::longest_list(list_count_.data(), n_, temp_.data(), temp_bytes_, counters32_.data(), stream_);
             if (longest <= list_capacity_) return;
@@ -290,17 +293,17 @@ public:
     }
     void compute_forces_listed() override {
         use_device();
-        const NeighbourList list{list_index_.data(), list_count_.data(), n_};
+        const NeighbourList list{list_index_.data(), list_count_.data(), n_, list_cell_offsets_};
         gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), active_range(), n_, stream_);
     }
     std::size_t neighbour_list_bytes() const override {
-        return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes();
+        return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes() + build_frame_.bytes();
     }
 
     void advance(const TimeStep& step) override {
         use_device();
         gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(),
-                     kept_cell_coords(), force_.data(),
+                     kept_cells(), force_.data(),
                      grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_, active_range(), n_, stream_);
     }
 
@@ -310,7 +313,7 @@ public:
         const std::uint32_t e = std::clamp(end_cell, f, owned_[1]);
         if (e == f) return;
         gpu::advance(pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(),
-                     kept_cell_coords(), force_.data(),
+                     kept_cells(), force_.data(),
                      grad_c_.size() ? grad_c_.data() : nullptr, step, cfg_,
                      {cell_start_.data() + f, cell_start_.data() + e}, n_, stream_);
     }
@@ -353,13 +356,17 @@ public:
 
 private:
     ForceInputs inputs() const {
+        const bool kept = keeps_cell_coords();
         return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), fluid_begin_.data(),
-                cfg_.grid, kept_cell_coords()};
+                cfg_.grid, kept ? cell_coords_.data() : nullptr,
+                kept && list_cell_offsets_ ? build_frame_.data() : nullptr};
     }
-    // Kept once lists were built (Verlet lists), and from then on by every advance; null before.
+    // Kept once lists were built (Verlet lists), and from then on by every advance; empty before.
     bool keeps_cell_coords() const { return n_ > 0 && cell_coords_.size() >= n_; }
-    CellCoords* kept_cell_coords() { return keeps_cell_coords() ? cell_coords_.data() : nullptr; }
-    const CellCoords* kept_cell_coords() const { return keeps_cell_coords() ? cell_coords_.data() : nullptr; }
+    KeptCells kept_cells() {
+        if (!keeps_cell_coords()) return {};
+        return {cell_coords_.data(), list_cell_offsets_ ? build_frame_.data() : nullptr};
+    }
     gpu::ActiveRange active_range() const { return {cell_start_.data() + owned_[0], cell_start_.data() + owned_[1]}; }
     // Subdomains of one run live on different GPUs and share the host thread: every entry
     // point makes its GPU current first (cheap when it already is).
@@ -385,6 +392,8 @@ private:
     DeviceBuffer<unsigned long long> counters_;
     DeviceBuffer<std::uint32_t> list_index_, list_count_, counters32_{1};
     DeviceBuffer<CellCoords> cell_coords_;
+    DeviceBuffer<real4> build_frame_;  // KeptCells::build_frame, while list_cell_offsets_
+    bool list_cell_offsets_ = false;   // the lists' entries are ListEntry codes
     std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
     DeviceBuffer<real4> recv_pos_, recv_velrho_, recv_velrho_prev_;  // the receive area of exchanges

@@ -255,7 +255,7 @@ private:
 #pragma omp parallel for schedule(static)
         for (std::ptrdiff_t i = lo; i < n; ++i)
             particle_advance<IntegrateBoundary>(std::uint32_t(i), a_.pos.data(), a_.velrho.data(), a_.velrho_prev.data(),
-                                                a_.cell.data(), nullptr, a_.force.data(), gradient(), step, cfg_.grid,
+                                                a_.cell.data(), KeptCells{}, a_.force.data(), gradient(), step, cfg_.grid,
                                                 cfg_.params);
     }
     void update_owned_range() {

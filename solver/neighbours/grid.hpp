@@ -66,6 +66,17 @@ inline bool fits_cell_coords(const GridView& g) {
     return g.nx <= cell_coords_limit && g.ny <= cell_coords_limit && g.nz <= cell_coords_limit;
 }
 
+// What the integration keeps up for the listed loop between list rebuilds (members null:
+// nothing). With `build_frame` null, `coords` follow each particle's cell. With it, `coords`
+// stay the cells of the last rebuild and build_frame[i] is particle i's position against that
+// cell (w: P / rho^2, as in pos): a list whose entries carry the cell offsets of the rebuild
+// (ListEntry) then gives each pair's separation without reading j's cell (change 12 of
+// bench/FORCE_LOOP_NOTES.md).
+struct KeptCells {
+    CellCoords* coords = nullptr;
+    real4* build_frame = nullptr;
+};
+
 // Host-side description: the grid plus where it sits in the world (in double precision,
 // since absolute positions are only ever formed on the host).
 struct Grid {

@@ -73,17 +73,20 @@ SPH_HD real3 shifting_move(const real4& velrho, const real4* grad_c, std::uint32
 
 // IntegrateBoundary = true moves boundary particles like fluid ones under their zero
 // acceleration: the same result at more cost, kept only so that skip_bench can measure it.
-// cell_coords (null unless the backend keeps them: the CUDA listed loop) follows cell.
+// kept (empty unless the backend keeps them: the CUDA listed loop) follows cell, or, with a
+// build frame, keeps the position against the cell of the last rebuild (KeptCells).
 template <bool IntegrateBoundary = false>
 SPH_HD void particle_advance(std::uint32_t i, real4* pos, real4* velrho, real4* velrho_prev, std::uint32_t* cell,
-                             CellCoords* cell_coords, const real4* force, const real4* grad_c, const TimeStep& s, const GridView& g,
-                             const PhysicsParams& p) {
+                             const KeptCells& kept, const real4* force, const real4* grad_c, const TimeStep& s,
+                             const GridView& g, const PhysicsParams& p) {
     const std::uint32_t c = cell[i];
     if (c >= g.out_of_domain()) return;
     const real4 now = velrho[i];
     const real4 f = force[i];
     const real4 next = stepped_velrho<IntegrateBoundary>(now, velrho_prev[i], f, s, p);
     real4 ps = pos[i];
+    real3 frame_shift{0, 0, 0};  // (cell - cell at the rebuild) * cell size, for kept.build_frame
+    bool inside = true;
     if (!is_boundary(now) || IntegrateBoundary) {
         const real half_dt2 = real(0.5) * s.dt * s.dt;
         const real3 shift = shifting_move(now, grad_c, i, s, p);
@@ -95,14 +98,28 @@ SPH_HD void particle_advance(std::uint32_t i, real4* pos, real4* velrho, real4* 
         wrap_into_cell(ps.y, cc.y, g.cell_size.y);
         wrap_into_cell(ps.z, cc.z, g.cell_size.z);
         if (g.any_periodic()) cc = g.wrap_periodic(cc);
-        const bool inside = g.inside(cc.x, cc.y, cc.z);
+        inside = g.inside(cc.x, cc.y, cc.z);
         cell[i] = inside ? g.encode(cc.x, cc.y, cc.z) : g.out_of_domain();
-        if (cell_coords) cell_coords[i] = pack_cell_coords(cc, inside);
+        if (kept.build_frame) {
+            const CellCoords c0 = kept.coords[i];
+            frame_shift = make3(real(cc.x - c0.x) * g.cell_size.x, real(cc.y - c0.y) * g.cell_size.y,
+                                real(cc.z - c0.z) * g.cell_size.z);
+        } else if (kept.coords) {
+            kept.coords[i] = pack_cell_coords(cc, inside);
+        }
     }
     velrho_prev[i] = now;
     velrho[i] = next;
     ps.w = pressure_over_rho2(p, density(next));  // what the next force loop reads
     pos[i] = ps;
+    // While a particle stays in its rebuild's cell the shift is zero and the frame is pos to
+    // the bit. One that left the domain is put far from every other, so that no pair with it
+    // falls inside a support (the listed loop reads no cell that would say so). Open grids
+    // only: across a periodic face the cell would jump by the period (the driver keeps no
+    // frame there).
+    if (kept.build_frame)
+        kept.build_frame[i] = inside ? real4{ps.x + frame_shift.x, ps.y + frame_shift.y, ps.z + frame_shift.z, ps.w}
+                                     : real4{real(1e15), real(1e15), real(1e15), ps.w};
 }
 
 }  // namespace sph

@@ -39,6 +39,9 @@ struct ForceInputs {
     // Each particle's cell as coordinates, kept by the integration between list rebuilds, for
     // the listed loop (the CUDA backend with Verlet lists); null elsewhere.
     const CellCoords* cell_coords;
+    // Each particle's position against its cell at the last list rebuild (KeptCells), for
+    // lists whose entries carry the cell offsets (NeighbourList::cell_offsets); null elsewhere.
+    const real4* build_frame = nullptr;
 };
 
 // What a pair's terms read of particle i: its position (w: pressure), velocity and density,
@@ -315,12 +318,35 @@ SPH_HD real4 particle_concentration_gradient(std::uint32_t i, const ForceInputs&
     return make4(grad_c, 0);
 }
 
+// A list entry that carries, besides j, the cell offset cell_j - cell_i of the rebuild (each
+// axis in [-4, 3], 3 bits, over j's 23): with positions kept against the rebuild's cells
+// (KeptCells::build_frame) a pair's separation needs neither particle's cell, and the listed
+// loop gathers j's position and velocity-density, not its cell as well (change 12). Stencils
+// of at most 3 cells a side and subdomains of fewer than 2^23 particles only (fits()).
+struct ListEntry {
+    static constexpr int index_bits = 23;
+    static constexpr std::uint32_t index_mask = (std::uint32_t(1) << index_bits) - 1;
+    static constexpr int reach_cells = 3;
+    static bool fits(std::size_t particles, int stencil_cells) {
+        return particles <= index_mask + std::size_t(1) && stencil_cells <= reach_cells;
+    }
+    SPH_HD static std::uint32_t encode(std::uint32_t j, int dx, int dy, int dz) {
+        return j | (std::uint32_t(dx + 4) | std::uint32_t(dy + 4) << 3 | std::uint32_t(dz + 4) << 6) << index_bits;
+    }
+    SPH_HD static std::uint32_t index(std::uint32_t e) { return e & index_mask; }
+    SPH_HD static int3v cell_offset(std::uint32_t e) {
+        return {int((e >> index_bits) & 7) - 4, int((e >> (index_bits + 3)) & 7) - 4, int(e >> (index_bits + 6)) - 4};
+    }
+};
+
 // A stored neighbour list (Verlet list): column k of particle i at list[k * stride + i], so
-// that a warp reads one column coalesced.
+// that a warp reads one column coalesced. Its entries are particle indices, or, with
+// cell_offsets, ListEntry codes.
 struct NeighbourList {
     const std::uint32_t* index;
     const std::uint32_t* count;
     std::uint32_t stride;
+    bool cell_offsets = false;
 };
 
 // How a backend runs the listed loop: the host's choices here; a GPU's come from its launch
@@ -331,11 +357,20 @@ struct NeighbourList {
 //                    (load_whole), and keep them to the pair body
 //   index_lookahead: load the list's entry k + L while entry k is summed (0, 1 or 2): a
 //                    GPU's list is read from DRAM, one row of the warp at a time
+//   entry_offsets:   the entries carry the rebuild's cell offsets (ListEntry) and positions
+//                    come from in.build_frame: no cell is read (open grids only)
 struct ListedLoopDefaults {
     static constexpr bool packed_cells = false;
     static constexpr bool early_loads = false;
     static constexpr bool whole_loads = false;
     static constexpr int index_lookahead = 0;
+    static constexpr bool entry_offsets = false;
+};
+
+// Choices with entry_offsets set: the loop a list with cell offsets takes.
+template <class Choices>
+struct WithEntryOffsets : Choices {
+    static constexpr bool entry_offsets = true;
 };
 
 // The same sums over a stored list. Particles keep their cell between rebuilds only up to
@@ -349,6 +384,7 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
     constexpr int lookahead = Choices::index_lookahead;
     static_assert(lookahead >= 0 && lookahead <= 2, "index_lookahead is 0, 1 or 2");
     static_assert(!Choices::whole_loads || Choices::early_loads, "whole_loads are early loads");
+    static_assert(!(Choices::entry_offsets && Periodic), "entries with cell offsets are for open grids");
     PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
     const auto cell_of = [&](std::uint32_t k) {
         if constexpr (Choices::packed_cells) {
@@ -359,7 +395,7 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
         }
     };
     const auto entry = [&](std::uint32_t k) { return list.index[std::size_t(k) * list.stride + i]; };
-    const int3v ci = cell_of(i);
+    const int3v ci = Choices::entry_offsets ? int3v{0, 0, 0} : cell_of(i);
     const std::uint32_t n = list.count[i];
     std::uint32_t next1 = lookahead >= 1 && n > 0 ? entry(0) : 0;  // entries k + 1 and k + 2, loaded ahead
     std::uint32_t next2 = lookahead >= 2 && n > 1 ? entry(1) : 0;
@@ -375,7 +411,13 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
             next1 = next2;
             if (k + 2 < n) next2 = entry(k + 2);
         }
-        const int3v cj = cell_of(j);
+        int3v cj;  // with entry offsets: cell_j - cell_i of the rebuild (ci is zero)
+        if constexpr (Choices::entry_offsets) {
+            cj = ListEntry::cell_offset(j);
+            j = ListEntry::index(j);
+        } else {
+            cj = cell_of(j);
+        }
         const real4 pos_j = Choices::whole_loads ? load_whole(in.pos, j) : in.pos[j];
         real3 rij;
         if constexpr (Periodic) rij = listed_separation(sums.side.pos, pos_j, ci, cj, in.grid);
@@ -387,11 +429,19 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
     return sums.result();
 }
 
+// Choices::entry_offsets takes a list with cell offsets on an open grid, whose positions are
+// in.build_frame (the caller checks both).
 template <class Kernel, bool Diffusion, class Choices = ListedLoopDefaults>
 SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const NeighbourList& list,
                                    const PhysicsParams& p, const Kernel& kernel) {
-    return in.grid.any_periodic() ? listed_sums<Kernel, Diffusion, Choices, true>(i, in, list, p, kernel)
-                                  : listed_sums<Kernel, Diffusion, Choices, false>(i, in, list, p, kernel);
+    if constexpr (Choices::entry_offsets) {
+        ForceInputs framed = in;
+        framed.pos = in.build_frame;
+        return listed_sums<Kernel, Diffusion, Choices, false>(i, framed, list, p, kernel);
+    } else {
+        return in.grid.any_periodic() ? listed_sums<Kernel, Diffusion, Choices, true>(i, in, list, p, kernel)
+                                      : listed_sums<Kernel, Diffusion, Choices, false>(i, in, list, p, kernel);
+    }
 }
 
 // Builds particle i's list: every candidate within support + skin, in visiting order. Where
@@ -401,9 +451,11 @@ SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const
 // memory nor a pass of the listed loop. The fluid comes in visit()'s order, so a wall sums
 // the same pairs in the same order either way.
 // Returns the true count; entries past `capacity` are not written (the caller grows and retries).
-template <class Search>
+// CellOffsets writes ListEntry codes (open grids, stencils of at most ListEntry::reach_cells).
+template <class Search, bool CellOffsets = false>
 SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in, real reach2, std::uint32_t* index,
                                          std::uint32_t stride, std::uint32_t capacity) {
+    static_assert(!CellOffsets || Search::n <= ListEntry::reach_cells, "a stencil too wide for ListEntry");
     std::uint32_t n = 0;
     const real4 pi = in.pos[i];
     const real3 cs = in.grid.cell_size;
@@ -411,7 +463,7 @@ SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in,
         if (j == i) return;
         const real3 rij = separation(pi, in.pos[j], dx, dy, dz, cs);
         if (dot(rij, rij) >= reach2) return;
-        if (n < capacity) index[std::size_t(n) * stride + i] = j;
+        if (n < capacity) index[std::size_t(n) * stride + i] = CellOffsets ? ListEntry::encode(j, dx, dy, dz) : j;
         ++n;
     };
     const int3v c = in.grid.decode(in.cell[i]);
