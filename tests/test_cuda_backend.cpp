@@ -73,8 +73,11 @@ TEST(CudaBackend, PinnedRankStagingCarriesPiecesBitwise) {
 TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
     const Scene s = test::small_dambreak("0.02");
-    // The third: Verlet lists (the listed loop; on the GPU a wall lists fluid only).
-    for (const SearchOptions search : {SearchOptions{1, false}, SearchOptions{2, true}, SearchOptions{1, false, true}}) {
+    // Then Verlet lists (the listed loop; on the GPU a wall lists fluid only, and the entries
+    // carry the rebuild's cell offsets), built on cells of the support, on merged half cells and
+    // on merged thirds (the widest stencil those entries take).
+    for (const SearchOptions search : {SearchOptions{1, false}, SearchOptions{2, true}, SearchOptions{1, false, true},
+                                       SearchOptions{2, true, true}, SearchOptions{3, true, true}}) {
         SolverOptions host, cuda;
         host.search = cuda.search = search;
         host.fixed_dt = cuda.fixed_dt = 1.4e-4;  // the scene's CFL step
