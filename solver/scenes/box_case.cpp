@@ -5,7 +5,6 @@
 #include <limits>
 #include <sstream>
 
-#include "core/equation_of_state.hpp"
 #include "core/error.hpp"
 #include "scenes/lattice.hpp"
 #include "scenes/mesh_fill.hpp"
