@@ -137,6 +137,18 @@ TEST(BoxCase, SphericTest2BuildsWithItsVolumesAndItsBox) {
     EXPECT_EQ(s.settings.at("case_hash").size(), 16u);
 }
 
+TEST(BoxCase, ShippedCaseFilesLoadAndBuildCoarsely) {
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::string(SPH_SOURCE_DIR) + "/experiments/cases")) {
+        if (entry.path().extension() != ".toml") continue;
+        const Scene s = build_scene(case_scene_prefix + entry.path().string(), {{"dp", "0.05"}});
+        EXPECT_GT(s.fluid_count(), 0u) << entry.path();
+        EXPECT_FALSE(s.bodies.empty()) << entry.path();
+        ++files;
+    }
+    EXPECT_GE(files, 4);
+}
+
 class BoxCaseFile : public test::ScratchFolderTest {
 protected:
     BoxCaseFile() : ScratchFolderTest("sph_box_case_") {}
