@@ -32,7 +32,7 @@
 //     diffusion = true                 #   delta-SPH density diffusion
 //     precision = "float32"            #   "float32" or "float64" (specs only: a build property)
 //   [[runs]]                           # one or more
-//     scene = "armadillo"              #   required; a scene of `sphbench info`
+//     scene = "armadillo"              #   required; a scene of `sphbench info`, or "case:FILE" (case_file.hpp)
 //     label = "armadillo-2980K"        #   optional; default: scene name and index
 //     set = { particles = 2980000 }    #   scene options: integer, float or string values
 //     solver = { merge = true }        #   optional per-run overrides of [solver]
