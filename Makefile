@@ -1,7 +1,7 @@
 # The front door. `make test` sets up, builds and runs the tests; `make fig4` (fig3 ... fig9,
 # table-vl) runs an experiment spec and draws its figure. Without a GPU the figure targets run on the
 # host backend at a reduced scale, and say so. `make reference` (on a GPU machine) regenerates every
-# committed GPU result, resumably; `make claims` writes the README's claims table from them.
+# committed GPU result, resumably; `make claims` writes the claims table of docs/results.md from them.
 BUILD ?= build
 JOBS ?= 2
 CMAKE_ARGS ?=
@@ -109,10 +109,10 @@ reference: $(REFERENCE_PREREQS)
 reference-figures:
 	$(PYTHON) tools/reference.py --figures-only
 
-# The README's claims table, from the committed results (experiments/claims.toml); `make test`
-# fails when the README's table differs from what this writes.
+# The claims table of docs/results.md, from the committed results (plots/claims.toml); `make test`
+# fails when that table differs from what this writes.
 claims:
-	$(PYTHON) plots/claims.py --write-readme
+	$(PYTHON) plots/claims.py --write
 
 clean:
 	rm -rf $(BUILD) $(BUILD_F64)

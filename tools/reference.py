@@ -69,7 +69,7 @@ BENCHMARK_CASES = [
     "armadillo --set particles=2980000",
     "armadillo --set particles=2980000 --merge --cells-per-support 2",
     # Verlet lists on half-size cells with a skin of 0.05 supports: the fastest setting measured
-    # (bench/FORCE_LOOP_NOTES.md, change 8); the claims table compares them with DualSPHysics too.
+    # (docs/force-loop-notes.md, change 8); the claims table compares them with DualSPHysics too.
     "dsph-dambreak --verlet --cells-per-support 2 --skin 0.05",
     "dsph-dambreak --set kernel=wendland --verlet --cells-per-support 2 --skin 0.05",
     "dsph-dambreak --set dp=0.0028 --verlet --cells-per-support 2 --skin 0.05",
