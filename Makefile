@@ -60,12 +60,12 @@ build-float64: deps
 	@cmake -S . -B $(BUILD_F64) -DCMAKE_BUILD_TYPE=Release -DSPH_DOUBLE=ON -DSPH_BUILD_TESTS=OFF $(CMAKE_ARGS) >/dev/null
 	@cmake --build $(BUILD_F64) -j$(JOBS) --target sphbench
 
-# Issue 6: validation error against run time; float64 runs are handed to the float64 build.
+# Validation error against run time; float64 runs are handed to the float64 build.
 accuracy: build build-float64
 	$(SPHBENCH) run experiments/accuracy.toml --float64-binary $(BUILD_F64)/harness/sphbench
 	$(PYTHON) plots/accuracy.py
 
-# What CI can hold without a GPU (README, "What CI holds"): the work counters of a small suite,
+# What CI can hold without a GPU (docs/perf-check.md): the work counters of a small suite,
 # exactly; instructions the host backend executes on fixed scenes (callgrind); and each CUDA
 # kernel's registers, spills, shared memory and SASS, read from $(BUILD)'s CUDA objects
 # (skipped, and said so, in a build without nvcc). `make perf-accept` rewrites the last two
@@ -94,8 +94,8 @@ stability: build
 skip-bench: build
 	$(BUILD)/bench/sph_skip_bench --benchmark_out=results/skip_bench.json --benchmark_out_format=json
 
-# Every GPU reference result the GPUs present allow, into results/reference/<gpu>[-xN]/ (README,
-# "Regenerating the reference results"): prints its plan and estimate, skips what is up to date,
+# Every GPU reference result the GPUs present allow, into results/reference/<gpu>[-xN]/ (docs/gpu-machines.md):
+# prints its plan and estimate, skips what is up to date,
 # resumes where the last call stopped. REFERENCE_BUDGET_S=500 starts nothing that would not fit;
 # PLAN=1 prints the plan only (also without a GPU); REFERENCE_ONLY="fig3 fig4" picks items.
 # With a packed build (.carry/, tools/gpu-run.sh pack) it runs those binaries and builds nothing.
