@@ -1,6 +1,6 @@
 // sphbench compare BASELINE CANDIDATE: a verdict per run and metric, as a table and JSON;
 // the exit code is what CI acts on (0 fine, 1 regression, 2 usage or setup error, 3 nothing
-// comparable).
+// comparable, 4 inconclusive).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,7 +18,7 @@ namespace {
 
 struct CompareArgs {
     std::string baseline, candidate, json, metrics = "update_ms,step_ms";
-    double threshold = 0.05, alpha = 0.01;
+    double threshold = 0.05, alpha = 0.01, noise_ratio = 3;
 };
 
 std::vector<std::string> parse_metrics(const std::string& list) {
@@ -102,18 +102,28 @@ void write_json(const std::string& path, const CompareArgs& a, const Comparison&
     std::ostringstream j;
     j << "{\n  \"baseline\": " << json_string(a.baseline) << ",\n  \"candidate\": " << json_string(a.candidate)
       << ",\n  \"threshold\": " << json_number(a.threshold) << ",\n  \"alpha\": " << json_number(a.alpha)
-      << ",\n  \"comparisons\": [";
+      << ",\n  \"noise_ratio\": " << json_number(a.noise_ratio) << ",\n  \"comparisons\": [";
     for (std::size_t i = 0; i < c.rows.size(); ++i) {
         const auto& r = c.rows[i];
         j << (i ? "," : "") << "\n    {\"run\": " << json_string(r.run) << ", \"metric\": " << json_string(r.metric)
           << ", \"kind\": " << (r.counter ? "\"counter\"" : "\"time\"") << ", \"baseline\": " << json_number(r.baseline)
           << ", \"candidate\": " << json_number(r.candidate) << ", \"change\": " << json_number(r.change)
           << ", \"p\": " << (r.p < 0 ? "null" : json_number(r.p)) << ", \"n_baseline\": " << r.n_baseline
-          << ", \"n_candidate\": " << r.n_candidate << ", \"verdict\": " << json_string(verdict_name(r.verdict)) << "}";
+          << ", \"n_candidate\": " << r.n_candidate;
+        if (!r.counter) {
+            const Disturbance& d = r.disturbance;
+            j << ", \"spread_baseline\": " << (d.spread_baseline < 0 ? "null" : json_number(d.spread_baseline))
+              << ", \"spread_candidate\": " << (d.spread_candidate < 0 ? "null" : json_number(d.spread_candidate))
+              << ", \"disturbed\": " << (d.found ? "true" : "false")
+              << ", \"disturbance\": " << (d.found ? json_string(d.why) : "null");
+        }
+        j << ", \"verdict\": " << json_string(verdict_name(r.verdict)) << "}";
     }
     j << "\n  ],\n  \"only_in_baseline\": " << json_names(c.only_in_baseline)
       << ",\n  \"only_in_candidate\": " << json_names(c.only_in_candidate)
       << ",\n  \"regressed\": " << (c.regressed() ? "true" : "false")
+      << ",\n  \"inconclusive\": " << (c.inconclusive() ? "true" : "false")
+      << ",\n  \"verdict\": " << json_string(overall_verdict(c))
       << ",\n  \"exit_code\": " << comparison_exit_code(c) << "\n}\n";
     AtomicFile out(path);
     out.stream() << j.str();
@@ -124,6 +134,7 @@ void compare(const CompareArgs& a, CommandContext& ctx) {
     CompareOptions options;
     options.threshold = a.threshold;
     options.alpha = a.alpha;
+    options.noise_ratio = a.noise_ratio;
     options.time_metrics = parse_metrics(a.metrics);
     const ResultSet baseline = load_results(a.baseline);
     const ResultSet candidate = load_results(a.candidate);
@@ -135,12 +146,18 @@ void compare(const CompareArgs& a, CommandContext& ctx) {
     for (const auto& r : c.rows) ++tally[verdict_name(r.verdict)];
     std::string counts;
     for (const auto& [name, n] : tally) counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+    for (const auto& r : c.rows)
+        if (r.disturbance.found)
+            std::printf("%s %s: the candidate is far noisier than the baseline (%s): the machine was likely disturbed "
+                        "while it ran\n",
+                        r.run.c_str(), r.metric.c_str(), r.disturbance.why.c_str());
     if (!c.comparable())
         std::printf("nothing comparable: no run and metric is present in both %s and %s\n", a.baseline.c_str(),
                     a.candidate.c_str());
     else
-        std::printf("%s: %s (threshold %g%%, alpha %g)\n", c.regressed() ? "REGRESSION" : "no regression",
-                    counts.c_str(), 100 * a.threshold, a.alpha);
+        std::printf("%s: %s (threshold %g%%, alpha %g)\n", overall_verdict(c), counts.c_str(), 100 * a.threshold,
+                    a.alpha);
+    if (c.comparable() && c.inconclusive()) std::printf("%s\n", inconclusive_advice(c).c_str());
     if (!a.json.empty()) write_json(a.json, a, c);
     ctx.exit_code = comparison_exit_code(c);
 }
@@ -150,9 +167,14 @@ void compare(const CompareArgs& a, CommandContext& ctx) {
 void add_compare_command(CLI::App& app, CommandContext& ctx) {
     auto a = std::make_shared<CompareArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "compare", "compare two result sets run by run: SAME, FASTER, SLOWER or AMBIGUOUS per time metric (median "
-                   "change and a Mann-Whitney rank test), counters exactly. Exit 0: no regression, 1: regression, "
-                   "2: usage or setup error, 3: nothing comparable");
+        "compare", "compare two result sets run by run: SAME, FASTER, SLOWER, AMBIGUOUS (a change beyond the threshold "
+                   "that the Mann-Whitney rank test cannot confirm, or too few samples) or NOISY (the candidate far "
+                   "noisier than the baseline: a disturbed machine) per time metric, counters exactly (COUNTER "
+                   "CHANGED).\nExit codes:\n  0  no regression, every verdict known (SAME or FASTER; changes within "
+                   "the threshold are SAME)\n  1  a regression: SLOWER or COUNTER CHANGED (wins over 4)\n  2  usage or "
+                   "setup error (one sentence names the file, key or value)\n  3  nothing comparable\n  4  "
+                   "inconclusive: some row AMBIGUOUS or NOISY and none a regression; rerun with more repetitions on a "
+                   "quiet machine");
     cmd->add_option("baseline", a->baseline,
                     "result folder (with runs.csv), a runs.csv, or Google Benchmark JSON (--benchmark_format=json)")
         ->required();
@@ -162,6 +184,11 @@ void add_compare_command(CLI::App& app, CommandContext& ctx) {
         ->capture_default_str();
     cmd->add_option("--alpha", a->alpha, "significance level of the rank test")
         ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    cmd->add_option("--noise-ratio", a->noise_ratio,
+                    "a candidate whose interquartile range relative to its median is this many times the baseline's "
+                    "(and at least the threshold) is NOISY")
+        ->check(CLI::Range(1.0, 1000.0))
         ->capture_default_str();
     cmd->add_option("--metrics", a->metrics,
                     "comma-separated time metrics (update_ms, step_ms, <phase>_ms, real_time); \"counters\" alone "

@@ -63,6 +63,61 @@ protected:
         return d.string();
     }
 
+    // A result folder of one configuration run as repetitions, one row each with the given
+    // median update time. Without steps (steps = 0) compare uses the repetition medians, as
+    // for a spec that records only the summary; with steps each repetition's step times are
+    // drawn around its median with `noise` relative spread.
+    std::string repeated_folder(const std::string& name, const std::vector<double>& repetition_ms, unsigned seed,
+                                long steps = 0, double noise = 0.03) {
+        const fs::path d = dir_ / name;
+        std::mt19937 rng(seed);
+        std::normal_distribution<double> jitter(1.0, noise);
+        CsvWriter table((d / "runs.csv").string(),
+                        {"run_id", "config", "repetition", "update_ms_median", "candidates_per_step", "steps_file"},
+                        {{"experiment", name}});
+        for (std::size_t i = 0; i < repetition_ms.size(); ++i) {
+            const std::string id = "tank_rep" + std::to_string(i + 1);
+            std::string steps_file;
+            double median = repetition_ms[i];
+            if (steps > 0) {
+                steps_file = id + "_steps.csv";
+                CsvWriter s((d / steps_file).string(), {"step", "update_ms"});
+                std::vector<double> update;
+                for (long k = 1; k <= steps; ++k) {
+                    update.push_back(repetition_ms[i] * jitter(rng));
+                    s.row({std::to_string(k), CsvWriter::fmt(update.back())});
+                }
+                s.commit();
+                std::sort(update.begin(), update.end());
+                median = update[update.size() / 2];
+            }
+            table.row({id, "tank", std::to_string(i + 1), CsvWriter::fmt(median), "123456", steps_file});
+        }
+        table.commit();
+        return d.string();
+    }
+
+    // Around `ms`, each repetition within +-0.5% (a quiet machine).
+    static std::vector<double> quiet(double ms, int n, unsigned seed) {
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(-0.005, 0.005);
+        std::vector<double> v;
+        for (int i = 0; i < n; ++i) v.push_back(ms * (1 + u(rng)));
+        return v;
+    }
+
+    // Runs `sphbench compare` and returns its exit code and what it printed.
+    std::pair<int, std::string> compare_printing(const std::vector<std::string>& args) {
+        ::testing::internal::CaptureStdout();
+        const int code = sphbench(args);
+        return {code, ::testing::internal::GetCapturedStdout()};
+    }
+
+    static std::string text_of(const std::string& path) {
+        std::ifstream in(path);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }
+
     std::string benchmark_json(const std::string& name, double slowdown, unsigned seed) {
         std::mt19937 rng(seed);
         std::normal_distribution<double> noise(1.0, 0.02);
@@ -141,10 +196,150 @@ TEST_F(CompareTest, TwentyPercentSlowdownIsFlaggedSlower) {
     const Comparison back = compare_results(load_results(b), load_results(a), CompareOptions{});
     EXPECT_EQ(find(back, "tank-1", "update_ms")->verdict, Verdict::faster);
     EXPECT_EQ(sphbench({"compare", b, a}), 0);
-    // Too few samples to tell: AMBIGUOUS, not SLOWER.
+    // Too few samples to tell: AMBIGUOUS, not SLOWER, and inconclusive (exit 4), not a pass.
     const std::string few_a = folder("few_a", {{"tank-1"}}, 1, 4), few_b = folder("few_b", {{"tank-1", 12.0}}, 2, 4);
     EXPECT_EQ(compare_results(load_results(few_a), load_results(few_b), CompareOptions{}).rows.front().verdict,
               Verdict::ambiguous);
+    const auto [code, printed] = compare_printing({"compare", few_a, few_b, "--metrics", "update_ms"});
+    EXPECT_EQ(code, exit_inconclusive) << printed;
+    EXPECT_NE(printed.find("INCONCLUSIVE"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("inconclusive: rerun the candidate with more repetitions"), std::string::npos) << printed;
+    EXPECT_EQ(printed.find("likely disturbed"), std::string::npos) << printed;  // ambiguous, not noisy
+}
+
+// The case of issue 26: 8 repetitions on a quiet machine, then 8 while two CPU-bound processes
+// competed for the cores (5 of them at 17-18 ms, 3 at the baseline's 9.5 ms). It said
+// "+49.7% p 0.041 AMBIGUOUS" and exited 0; now it is NOISY, says why and what to do, and exits 4.
+TEST_F(CompareTest, LoadedMachineCandidateIsInconclusiveNotAPass) {
+    const std::string base = repeated_folder("base", quiet(9.5, 8, 1), 1);
+    std::vector<double> loaded = {17.4, 9.52, 17.9, 17.2, 9.47, 17.6, 9.55, 17.8};
+    const std::string cand = repeated_folder("loaded", loaded, 2);
+    const Comparison c = compare_results(load_results(base), load_results(cand), CompareOptions{});
+    const MetricComparison* u = find(c, "tank", "update_ms");
+    ASSERT_NE(u, nullptr);
+    EXPECT_EQ(u->n_candidate, 8u);  // the repetition medians: no step files
+    EXPECT_GT(u->change, 0.05);
+    EXPECT_EQ(u->verdict, Verdict::noisy);
+    EXPECT_TRUE(u->disturbance.found);
+    EXPECT_GT(u->disturbance.spread_candidate, 0.3);   // (17.4 - 9.5) / 17.5 or so
+    EXPECT_LT(u->disturbance.spread_baseline, 0.01);
+    EXPECT_EQ(u->disturbance.fast_group, 3u);
+    EXPECT_EQ(u->disturbance.slow_group, 5u);
+    EXPECT_FALSE(c.regressed());
+    EXPECT_TRUE(c.inconclusive());
+    EXPECT_EQ(comparison_exit_code(c), 4);
+
+    const std::string json = (dir_ / "loaded.json").string();
+    const auto [code, printed] = compare_printing({"compare", base, cand, "--json", json});
+    EXPECT_EQ(code, 4) << printed;
+    EXPECT_NE(printed.find("NOISY"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("tank update_ms: the candidate is far noisier than the baseline"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("split into 3 near 9.5"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("the machine was likely disturbed"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("inconclusive: rerun the candidate with more repetitions"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("on a quiet machine"), std::string::npos) << printed;
+    const std::string j = text_of(json);
+    EXPECT_NE(j.find("\"verdict\": \"NOISY\""), std::string::npos) << j;
+    EXPECT_NE(j.find("\"disturbed\": true"), std::string::npos) << j;
+    EXPECT_NE(j.find("\"inconclusive\": true"), std::string::npos) << j;
+    EXPECT_NE(j.find("\"verdict\": \"INCONCLUSIVE\""), std::string::npos) << j;
+    EXPECT_NE(j.find("\"exit_code\": 4"), std::string::npos) << j;
+
+    // The same two sets with step files (60 steps each, 3% noise): the pooled steps say the same.
+    const std::string base_steps = repeated_folder("base_steps", quiet(9.5, 8, 1), 3, 60);
+    const std::string cand_steps = repeated_folder("loaded_steps", loaded, 4, 60);
+    const Comparison s = compare_results(load_results(base_steps), load_results(cand_steps), CompareOptions{});
+    EXPECT_EQ(find(s, "tank", "update_ms")->n_candidate, 480u);
+    EXPECT_EQ(find(s, "tank", "update_ms")->verdict, Verdict::noisy);
+    EXPECT_EQ(sphbench({"compare", base_steps, cand_steps}), 4);
+}
+
+// A clean A/A of repeated runs passes, with and without step files.
+TEST_F(CompareTest, QuietRepetitionsCompareCleanAndExitZero) {
+    for (long steps : {0L, 60L}) {
+        const std::string a = repeated_folder("a" + std::to_string(steps), quiet(9.5, 8, 1), 1, steps);
+        const std::string b = repeated_folder("b" + std::to_string(steps), quiet(9.5, 8, 2), 2, steps);
+        const Comparison c = compare_results(load_results(a), load_results(b), CompareOptions{});
+        const MetricComparison* u = find(c, "tank", "update_ms");
+        ASSERT_NE(u, nullptr);
+        EXPECT_EQ(u->verdict, Verdict::same) << steps;
+        EXPECT_FALSE(u->disturbance.found) << u->disturbance.why;
+        const std::string json = (dir_ / ("aa" + std::to_string(steps) + ".json")).string();
+        const auto [code, printed] = compare_printing({"compare", a, b, "--json", json});
+        EXPECT_EQ(code, 0) << printed;
+        EXPECT_EQ(printed.find("inconclusive"), std::string::npos) << printed;
+        const std::string j = text_of(json);
+        EXPECT_NE(j.find("\"verdict\": \"NO REGRESSION\""), std::string::npos) << j;
+        EXPECT_NE(j.find("\"exit_code\": 0"), std::string::npos) << j;
+    }
+}
+
+// A real 20% slowdown of every repetition on a quiet machine is a regression, not noise.
+TEST_F(CompareTest, UniformSlowdownOfRepetitionsIsSlowerNotNoisy) {
+    std::vector<double> slow = quiet(9.5 * 1.2, 8, 2);
+    const std::string a = repeated_folder("a", quiet(9.5, 8, 1), 1), b = repeated_folder("b", slow, 2);
+    const Comparison c = compare_results(load_results(a), load_results(b), CompareOptions{});
+    const MetricComparison* u = find(c, "tank", "update_ms");
+    ASSERT_NE(u, nullptr);
+    EXPECT_EQ(u->verdict, Verdict::slower);
+    EXPECT_FALSE(u->disturbance.found) << u->disturbance.why;
+    const std::string json = (dir_ / "slow.json").string();
+    EXPECT_EQ(sphbench({"compare", a, b, "--json", json}), 1);
+    const std::string j = text_of(json);
+    EXPECT_NE(j.find("\"verdict\": \"SLOWER\""), std::string::npos) << j;
+    EXPECT_NE(j.find("\"verdict\": \"REGRESSION\""), std::string::npos) << j;
+}
+
+// A noisy candidate is NOISY whatever its median says: within the threshold (3 of 8 loaded,
+// the median unmoved, which was SAME) and faster (a real speedup measured on a loaded machine).
+TEST_F(CompareTest, NoisyCandidateIsNeverSameOrFaster) {
+    const std::string base = repeated_folder("base", quiet(9.5, 8, 1), 1);
+    const std::string few_loaded = repeated_folder("few", {9.5, 17.5, 9.48, 9.52, 17.2, 9.51, 9.49, 17.8}, 2);
+    const Comparison c = compare_results(load_results(base), load_results(few_loaded), CompareOptions{});
+    EXPECT_LT(std::abs(find(c, "tank", "update_ms")->change), 0.05);
+    EXPECT_EQ(find(c, "tank", "update_ms")->verdict, Verdict::noisy);
+    EXPECT_EQ(sphbench({"compare", base, few_loaded}), 4);
+
+    const std::string faster = repeated_folder("faster", {6.0, 6.02, 11.0, 5.98, 11.5, 6.01, 10.8, 5.99}, 3);
+    const Comparison f = compare_results(load_results(base), load_results(faster), CompareOptions{});
+    EXPECT_LT(find(f, "tank", "update_ms")->change, -0.05);
+    EXPECT_EQ(find(f, "tank", "update_ms")->verdict, Verdict::noisy);
+    EXPECT_EQ(sphbench({"compare", base, faster}), 4);
+}
+
+// The two signs separately, on the function itself.
+TEST(Disturbance, SpreadAndSplitAreEachEnoughAndOrdinaryNoiseIsNeither) {
+    const CompareOptions o;
+    const std::vector<double> base = {9.50, 9.52, 9.48, 9.51, 9.49, 9.53, 9.47, 9.50};
+    // Ordinary noise: more spread than the baseline's, but far less than the threshold, and no gap.
+    const std::vector<double> wobbly = {9.46, 9.56, 9.44, 9.54, 9.48, 9.58, 9.42, 9.50};
+    EXPECT_FALSE(find_disturbance(base, wobbly, base, wobbly, o).found);
+    // Spread alone (no repetitions to split): a continuous smear from 9.5 to 14.
+    const std::vector<double> smear = {9.5, 10.1, 10.8, 11.4, 12.0, 12.7, 13.3, 14.0};
+    const Disturbance spread = find_disturbance(base, smear, {}, {}, o);
+    EXPECT_TRUE(spread.found);
+    EXPECT_NE(spread.why.find("interquartile range"), std::string::npos) << spread.why;
+    EXPECT_EQ(spread.fast_group, 0u);
+    // Split alone: 2 of 10 repetitions at the baseline's speed, 8 at 17.5 ms. The pooled steps'
+    // spread (their quartiles both in the slow group) does not show it; the repetitions do.
+    const std::vector<double> two_fast = {9.5, 17.5, 17.4, 9.52, 17.6, 17.5, 17.45, 17.55, 17.48, 17.52};
+    std::vector<double> steps_b, steps_c;
+    for (double r : base)
+        for (int k = -30; k < 30; ++k) steps_b.push_back(r * (1 + 0.001 * k));
+    for (double r : two_fast)
+        for (int k = -30; k < 30; ++k) steps_c.push_back(r * (1 + 0.001 * k));
+    const Disturbance split = find_disturbance(steps_b, steps_c, base, two_fast, o);
+    EXPECT_TRUE(split.found);
+    EXPECT_EQ(split.fast_group, 2u);
+    EXPECT_EQ(split.slow_group, 8u);
+    EXPECT_NEAR(split.fast_median, 9.51, 0.01);
+    EXPECT_NEAR(split.slow_median, 17.5, 0.01);
+    EXPECT_EQ(split.why.find("interquartile range"), std::string::npos) << split.why;
+    // One outlier is not a split (a group needs two repetitions).
+    const std::vector<double> one_fast = {9.5, 17.5, 17.4, 17.52, 17.6, 17.5, 17.45, 17.55};
+    EXPECT_FALSE(find_disturbance(base, one_fast, base, one_fast, o).found);
+    // A baseline as bimodal as the candidate: nothing new.
+    EXPECT_FALSE(find_disturbance(two_fast, two_fast, two_fast, two_fast, o).found);
 }
 
 TEST_F(CompareTest, ChangedCounterIsFlaggedEvenWhenOnlyCountersAreCompared) {
