@@ -139,8 +139,14 @@ const char* overall_verdict(const Comparison& c) {
 std::string inconclusive_advice(const Comparison& c) {
     const bool noisy = std::any_of(c.rows.begin(), c.rows.end(), [](const MetricComparison& r) { return r.verdict == Verdict::noisy; });
     std::string s = "inconclusive: rerun the candidate with more repetitions (--set repetitions=N";
-    s += ")";
+    s += ", or `sphbench run SPEC --baseline DIR`, which adds repetitions while a verdict is AMBIGUOUS)";
     if (noisy) s += " on a quiet machine (nothing else running on its cores)";
+    const auto thin = std::find_if(c.rows.begin(), c.rows.end(), [](const MetricComparison& r) {
+        return r.verdict == Verdict::ambiguous && r.n_baseline < CompareOptions::min_samples;
+    });
+    if (thin != c.rows.end())
+        s += "; the baseline too, which has " + std::to_string(thin->n_baseline) + " sample(s) of " + thin->run + " " +
+             thin->metric + " where the rank test needs " + std::to_string(CompareOptions::min_samples);
     s += ", then compare again";
     if (!c.regressed()) s += "; exit " + std::to_string(exit_inconclusive);
     return s;

@@ -431,6 +431,72 @@ TEST_F(CompareTest, RunTwiceOnTheHostThenCountersMatch) {
     EXPECT_EQ(fs::last_write_time(out1 + "/tiny/runs.csv"), before);
 }
 
+// `run --baseline`: repetitions are added, doubling, while the verdict is AMBIGUOUS. The
+// baseline is written here at 1e6 ms, so that the host run is far faster than it: AMBIGUOUS
+// while the candidate has fewer than 8 repetitions, FASTER from 8 on (whatever the host's
+// load). A baseline of one repetition stays AMBIGUOUS, up to the cap.
+TEST_F(CompareTest, RunWithBaselineAddsRepetitionsUntilTheVerdictIsKnown) {
+    const auto baseline = [this](const std::string& name, int repetitions) {
+        const fs::path d = dir_ / name;
+        CsvWriter table((d / "runs.csv").string(), {"run_id", "config", "repetition", "update_ms_median"}, {});
+        for (int i = 1; i <= repetitions; ++i)  // 0.7e6 .. 1.3e6: spread wide, so host noise is not NOISY
+            table.row({"tank_rep" + std::to_string(i), "tank", std::to_string(i),
+                       CsvWriter::fmt(1e6 * (0.7 + 0.6 * (i - 1) / std::max(1, repetitions - 1)))});
+        table.commit();
+        return d.string();
+    };
+    const std::string spec = (dir_ / "tiny.toml").string();
+    std::ofstream(spec) << "name = \"tiny\"\nreproduces = \"the --baseline test\"\nsteps = 3\n"
+                           "record = [\"summary\"]\n"
+                           "[[runs]]\nscene = \"tank\"\nlabel = \"tank\"\nset = { dp = 0.05 }\n";
+    const auto rows = [](const std::string& out) {
+        const CsvTable t = read_csv(out + "/tiny/runs.csv");
+        std::vector<std::string> reps;
+        for (std::size_t i = 0; i < t.rows.size(); ++i) {
+            EXPECT_EQ(t.cell(i, "config"), "tank");
+            reps.push_back(t.cell(i, "repetition"));
+        }
+        return reps;
+    };
+    const std::vector<std::string> one_to_eight = {"1", "2", "3", "4", "5", "6", "7", "8"};
+
+    const std::string out = (dir_ / "out").string(), eight = baseline("eight", 8);
+    auto [code, printed] = compare_printing({"run", spec, "--backend", "host", "--out", out, "--quiet", "--baseline", eight});
+    EXPECT_EQ(code, 0) << printed;
+    EXPECT_EQ(rows(out), one_to_eight);  // 1, then 2, 4 and 8 repetitions
+    EXPECT_NE(printed.find("tiny: inconclusive against"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("FASTER"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("NO REGRESSION"), std::string::npos) << printed;
+    // Up to date: not run again, and the verdict, from the 8 repetitions there, is known.
+    std::tie(code, printed) =
+        compare_printing({"run", spec, "--backend", "host", "--out", out, "--quiet", "--baseline", (dir_).string() + "/eight"});
+    EXPECT_EQ(code, 0) << printed;
+    EXPECT_EQ(printed.find("inconclusive"), std::string::npos) << printed;
+    EXPECT_EQ(rows(out), one_to_eight);
+    // compare itself agrees.
+    EXPECT_EQ(sphbench({"compare", eight, out + "/tiny", "--metrics", "update_ms"}), 0);
+
+    // One baseline repetition: AMBIGUOUS however many the candidate has; stops at the cap, exit 4.
+    const std::string capped = (dir_ / "capped").string(), one = baseline("one", 1);
+    std::tie(code, printed) = compare_printing(
+        {"run", spec, "--backend", "host", "--out", capped, "--quiet", "--baseline", one, "--max-repetitions", "3"});
+    EXPECT_EQ(code, exit_inconclusive) << printed;
+    EXPECT_EQ(rows(capped), (std::vector<std::string>{"1", "2", "3"}));
+    EXPECT_NE(printed.find("tank: still AMBIGUOUS after 3 repetitions"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("inconclusive: rerun"), std::string::npos) << printed;
+    EXPECT_NE(printed.find("the baseline too, which has 1 sample(s) of tank update_ms"), std::string::npos) << printed;
+
+    // Bad input: exit 2, nothing run.
+    const std::string bad = (dir_ / "bad").string();
+    EXPECT_EQ(sphbench({"run", spec, "--backend", "host", "--out", bad, "--quiet", "--baseline", one,
+                        "--max-repetitions", "0"}),
+              exit_usage);
+    EXPECT_EQ(sphbench({"run", spec, "--backend", "host", "--out", bad, "--quiet", "--baseline",
+                        (dir_ / "missing").string()}),
+              exit_usage);
+    EXPECT_FALSE(fs::exists(bad + "/tiny/runs.csv"));
+}
+
 TEST_F(CompareTest, FailingRunIsNamedAndLeavesNoTable) {
     const std::string spec = (dir_ / "broken.toml").string();
     std::ofstream(spec) << "name = \"broken\"\nreproduces = \"a failing run\"\nsteps = 2\n"
