@@ -120,11 +120,7 @@ std::string baseline_results(const std::string& dir, const std::string& name) {
     return dir;
 }
 
-// --baseline: compare the experiment's results with the baseline's; while a configuration has
-// an AMBIGUOUS verdict, run as many repetitions of it again as it has (up to max_repetitions)
-// and compare again, as nvbench runs until its noise criterion is met. NOISY configurations
-// get none: more repetitions on a disturbed machine do not settle them. The exit code is
-// compare's: 0, 1 a regression, 4 still inconclusive.
+// The baseline of --baseline and the cap on repetitions.
 struct Baseline {
     std::string path;
     ResultSet results;
@@ -145,6 +141,11 @@ Baseline load_baseline(const Experiment& e, const RunArgs& a, const DelegatedRun
     return b;
 }
 
+// --baseline: compare the experiment's results with the baseline's; while a configuration has
+// an AMBIGUOUS verdict, run as many repetitions of it again as it has (up to max_repetitions)
+// and compare again, as nvbench runs until its noise criterion is met. NOISY configurations
+// get none: more repetitions on a disturbed machine do not settle them. The exit code is
+// compare's: 0, 1 a regression, 4 still inconclusive.
 int settle_against_baseline(const Experiment& e, const Baseline& b, const ExperimentRunOptions& opt) {
     const long cap = b.max_repetitions;
     const std::string& baseline_path = b.path;
@@ -191,8 +192,10 @@ int settle_against_baseline(const Experiment& e, const Baseline& b, const Experi
                             config.c_str(), have[config]);
             return comparison_exit_code(c);
         }
+        std::set<std::string> growing;
+        for (const auto& p : more) growing.insert(p.config);
         std::printf("%s: inconclusive against %s: %zu more repetition(s) of %zu configuration(s), up to %ld each\n",
-                    e.spec.name.c_str(), baseline_path.c_str(), more.size(), ambiguous.size() - noisy.size(), cap);
+                    e.spec.name.c_str(), baseline_path.c_str(), more.size(), growing.size(), cap);
         std::fflush(stdout);
         append_runs(e.spec, runs, more, opt);
         runs.insert(runs.end(), more.begin(), more.end());
