@@ -75,6 +75,8 @@ void write_json(const std::string& path, const CompareArgs& a, const Comparison&
             const Disturbance& d = r.disturbance;
             j << ", \"spread_baseline\": " << (d.spread_baseline < 0 ? "null" : json_number(d.spread_baseline))
               << ", \"spread_candidate\": " << (d.spread_candidate < 0 ? "null" : json_number(d.spread_candidate))
+              << ", \"scatter_baseline\": " << (d.scatter_baseline < 0 ? "null" : json_number(d.scatter_baseline))
+              << ", \"scatter_candidate\": " << (d.scatter_candidate < 0 ? "null" : json_number(d.scatter_candidate))
               << ", \"disturbed\": " << (d.found ? "true" : "false")
               << ", \"disturbance\": " << (d.found ? json_string(d.why) : "null");
         }
@@ -111,8 +113,9 @@ void add_compare_command(CLI::App& app, CommandContext& ctx) {
     auto a = std::make_shared<CompareArgs>();
     CLI::App* cmd = app.add_subcommand(
         "compare", "compare two result sets run by run: SAME, FASTER, SLOWER, AMBIGUOUS (a change beyond the threshold "
-                   "that the Mann-Whitney rank test cannot confirm, or too few samples) or NOISY (the candidate far "
-                   "noisier than the baseline: a disturbed machine) per time metric, counters exactly (COUNTER "
+                   "that the Mann-Whitney rank test cannot confirm, or too few samples) or NOISY (a disturbed machine: "
+                   "the candidate far noisier than the baseline, its repetitions split in two groups, or one side's "
+                   "repetitions disagreeing by the threshold or more) per time metric, counters exactly (COUNTER "
                    "CHANGED).\nExit codes:\n  0  no regression, every verdict known (SAME or FASTER; changes within "
                    "the threshold are SAME)\n  1  a regression: SLOWER or COUNTER CHANGED (wins over 4)\n  2  usage or "
                    "setup error (one sentence names the file, key or value)\n  3  nothing comparable\n  4  "
@@ -129,8 +132,9 @@ void add_compare_command(CLI::App& app, CommandContext& ctx) {
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     cmd->add_option("--noise-ratio", a->noise_ratio,
-                    "a candidate whose interquartile range relative to its median is this many times the baseline's "
-                    "(and at least the threshold) is NOISY")
+                    "NOISY where the candidate's interquartile range (relative to its median) is this many times the "
+                    "baseline's, a split of its repetitions this many times the baseline's scatter, or one side's "
+                    "repetitions scatter by 1/this of the change (each also at least the threshold)")
         ->check(CLI::Range(1.0, 1000.0))
         ->capture_default_str();
     cmd->add_option("--metrics", a->metrics,

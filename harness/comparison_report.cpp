@@ -62,8 +62,7 @@ void print_comparison(const Comparison& c, const CompareOptions& options, const 
     for (const auto& [name, n] : tally) counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + name;
     for (const auto& r : c.rows)
         if (r.disturbance.found)
-            std::printf("%s %s: the candidate is far noisier than the baseline (%s): the machine was likely disturbed "
-                        "while it ran\n",
+            std::printf("%s %s: NOISY: %s; the machine was likely disturbed while they ran\n",
                         r.run.c_str(), r.metric.c_str(), r.disturbance.why.c_str());
     if (!c.comparable())
         std::printf("nothing comparable: no run and metric is present in both %s and %s\n", baseline.c_str(),

@@ -141,20 +141,22 @@ std::string inconclusive_advice(const Comparison& c) {
     std::string s = "inconclusive: rerun the candidate with more repetitions (--set repetitions=N";
     s += ", or `sphbench run SPEC --baseline DIR`, which adds repetitions while a verdict is AMBIGUOUS)";
     if (noisy) s += " on a quiet machine (nothing else running on its cores)";
+    s += ", then compare again";
     const auto thin = std::find_if(c.rows.begin(), c.rows.end(), [](const MetricComparison& r) {
         return r.verdict == Verdict::ambiguous && r.n_baseline < CompareOptions::min_samples;
     });
     if (thin != c.rows.end())
-        s += "; the baseline too, which has " + std::to_string(thin->n_baseline) + " sample(s) of " + thin->run + " " +
+        s += "; rerun the baseline too: it has " + std::to_string(thin->n_baseline) + " sample(s) of " + thin->run + " " +
              thin->metric + " where the rank test needs " + std::to_string(CompareOptions::min_samples);
-    s += ", then compare again";
+    if (std::any_of(c.rows.begin(), c.rows.end(), [](const MetricComparison& r) { return r.disturbance.in_baseline; }))
+        s += "; rerun the baseline too: its repetitions disagree";
     if (!c.regressed()) s += "; exit " + std::to_string(exit_inconclusive);
     return s;
 }
 
 Disturbance find_disturbance(const std::vector<double>& base, const std::vector<double>& cand,
                              const std::vector<double>& base_reps, const std::vector<double>& cand_reps,
-                             const CompareOptions& o) {
+                             double change, const CompareOptions& o) {
     Disturbance d;
     const auto relative_iqr = [](const std::vector<double>& v) {
         const Summary s = summarize(v);
@@ -166,7 +168,9 @@ Disturbance find_disturbance(const std::vector<double>& base, const std::vector<
         d.spread_candidate = relative_iqr(cand);
         if (d.spread_candidate >= o.threshold && d.spread_candidate >= o.noise_ratio * d.spread_baseline) {
             d.found = true;
-            std::snprintf(buf, sizeof buf, "its interquartile range is %.1f%% of its median against the baseline's %.1f%%",
+            std::snprintf(buf, sizeof buf,
+                          "the candidate is far noisier than the baseline: its interquartile range is %.1f%% of its "
+                          "median against the baseline's %.1f%%",
                           100 * d.spread_candidate, 100 * d.spread_baseline);
             d.why = buf;
         }
@@ -186,11 +190,29 @@ Disturbance find_disturbance(const std::vector<double>& base, const std::vector<
             d.slow_group = c.size() - at;
             d.fast_median = summarize(std::vector<double>(c.begin(), c.begin() + long(at))).median;
             d.slow_median = summarize(std::vector<double>(c.begin() + long(at), c.end())).median;
-            std::snprintf(buf, sizeof buf, "its repetitions split into %zu near %.4g and %zu near %.4g (the baseline's median: %.4g)",
+            std::snprintf(buf, sizeof buf,
+                          "the candidate's repetitions split into %zu near %.4g and %zu near %.4g (the baseline's "
+                          "median: %.4g)",
                           d.fast_group, d.fast_median, d.slow_group, d.slow_median, bs.median);
             d.why += (d.why.empty() ? "" : "; ") + std::string(buf);
         }
     }
+    const auto scatter = [&](const std::vector<double>& reps, double& out, const char* side) {
+        if (reps.size() < CompareOptions::min_scatter_repetitions) return false;
+        out = relative_iqr(reps);
+        if (out >= o.threshold && o.noise_ratio * out >= std::abs(change)) {
+            d.found = true;
+            std::snprintf(buf, sizeof buf,
+                          "the %s's %zu repetitions disagree: their medians' interquartile range is %.1f%% of their "
+                          "median, against a change of %+.1f%%",
+                          side, reps.size(), 100 * out, 100 * change);
+            d.why += (d.why.empty() ? "" : "; ") + std::string(buf);
+            return true;
+        }
+        return false;
+    };
+    d.in_baseline = scatter(base_reps, d.scatter_baseline, "baseline");
+    scatter(cand_reps, d.scatter_candidate, "candidate");
     return d;
 }
 
@@ -266,7 +288,7 @@ Comparison compare_results(const ResultSet& base, const ResultSet& cand, const C
                 const auto it = s.run_values.find(m);
                 return it == s.run_values.end() ? none : it->second;
             };
-            r.disturbance = find_disturbance(bs.at(m), cs.at(m), reps(b), reps(c), o);
+            r.disturbance = find_disturbance(bs.at(m), cs.at(m), reps(b), reps(c), r.change, o);
             if (r.disturbance.found) r.verdict = Verdict::noisy;
             out.rows.push_back(r);
         }

@@ -50,12 +50,14 @@ struct CompareOptions {
     std::vector<std::string> time_metrics = {"update_ms", "step_ms"};  // empty: counters only
     static constexpr std::size_t min_samples = 8;         // for the rank test
     static constexpr std::size_t min_spread_samples = 8;  // for a spread (interquartile range)
+    static constexpr std::size_t min_scatter_repetitions = 4;  // for the repetitions' scatter
 };
 
-// Signs that the candidate's timings were disturbed (other processes on the machine), from the
-// samples the verdict uses and the per-repetition medians. Timings of one build on a quiet
-// machine are unimodal and about as spread as its baseline's; load makes some or all of them
-// slower, so that the candidate is far more spread, or its repetitions fall into two groups.
+// Signs that timings were disturbed (other processes on the machine), from the samples the
+// verdict uses and the per-repetition medians. Timings of one build on a quiet machine are
+// unimodal, about as spread as its baseline's, and its repetitions agree; load makes some or
+// all of them slower, so that the candidate is far more spread, its repetitions fall into two
+// groups, or the repetitions of either side disagree.
 //   spread: the candidate's interquartile range relative to its median is at least
 //           noise_ratio times the baseline's and at least the threshold (spread that small
 //           cannot hide a change that counts);
@@ -63,17 +65,26 @@ struct CompareOptions {
 //           repetitions on each side (one is an outlier), of at least the threshold (relative
 //           to the baseline's median) and more than noise_ratio times the baseline
 //           repetitions' scatter (their interquartile range, or their own widest such gap):
-//           some repetitions ran at one speed and the others at another.
+//           some repetitions ran at one speed and the others at another;
+//   scatter: the repetition medians of either side (at least min_scatter_repetitions) have
+//           an interquartile range, relative to their median, of at least the threshold and
+//           at least 1/noise_ratio of the change: one build's repetitions disagree by as much
+//           as the change that counts and the change measured. This also catches pooled
+//           per-step samples that make a rank test overconfident: steps of one repetition
+//           share the machine's state.
 struct Disturbance {
     bool found = false;
+    bool in_baseline = false;                            // the baseline's repetitions disagree
     double spread_baseline = -1, spread_candidate = -1;  // relative IQR; < 0 where too few samples
+    double scatter_baseline = -1, scatter_candidate = -1;  // the repetitions' relative IQR; likewise
     std::size_t fast_group = 0, slow_group = 0;          // repetitions below and above the split
     double fast_median = 0, slow_median = 0;             // their medians
-    std::string why;                                     // a clause for the report; empty if none
+    std::string why;                                     // clauses for the report; empty if none
 };
 Disturbance find_disturbance(const std::vector<double>& baseline_samples, const std::vector<double>& candidate_samples,
                              const std::vector<double>& baseline_repetitions,
-                             const std::vector<double>& candidate_repetitions, const CompareOptions& options);
+                             const std::vector<double>& candidate_repetitions, double change,
+                             const CompareOptions& options);
 
 struct MetricComparison {
     std::string run, metric;

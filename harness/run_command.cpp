@@ -21,6 +21,7 @@
 #include "experiment_preamble.hpp"
 #include "experiment_runner.hpp"
 #include "regression_compare.hpp"
+#include "repetition_plan.hpp"
 #include "statistics.hpp"
 
 namespace sph {
@@ -158,11 +159,6 @@ int settle_against_baseline(const Experiment& e, const Baseline& b, const Experi
         if (!c.comparable())
             throw InputError("--baseline '" + baseline_path + "' has no run and metric of '" + e.spec.name +
                              "' to compare with (runs are matched by their config)");
-        std::set<std::string> ambiguous, noisy;
-        for (const auto& r : c.rows) {
-            if (r.verdict == Verdict::ambiguous) ambiguous.insert(r.run);
-            if (r.verdict == Verdict::noisy) noisy.insert(r.run);
-        }
         // Repetitions so far, from the table itself: an earlier --baseline may have added some.
         const CsvTable table = read_csv(runs_csv);
         std::map<std::string, long> have;
@@ -171,23 +167,11 @@ int settle_against_baseline(const Experiment& e, const Baseline& b, const Experi
             long& n = have[table.cell(i, "config")];
             n = std::max(n, rep.empty() ? 1L : std::stol(rep));
         }
-        std::vector<PlannedRun> more;
-        std::vector<std::string> capped;
-        for (const auto& config : ambiguous) {
-            const auto proto = std::find_if(runs.begin(), runs.end(), [&](const PlannedRun& r) { return r.config == config; });
-            if (noisy.count(config) || proto == runs.end()) continue;
-            const long n = have[config], next = std::min(cap, 2 * n);
-            if (next <= n) capped.push_back(config);
-            for (long rep = n + 1; rep <= next; ++rep) {
-                PlannedRun p = *proto;
-                p.repetition = rep;
-                p.run_id = config + "_rep" + std::to_string(rep);
-                more.push_back(std::move(p));
-            }
-        }
+        const RepetitionPlan plan = more_repetitions(c, runs, have, cap);
+        const std::vector<PlannedRun>& more = plan.runs;
         if (more.empty()) {
             print_comparison(c, options, baseline_path, e.dir);
-            for (const auto& config : capped)
+            for (const auto& config : plan.capped)
                 std::printf("%s: still AMBIGUOUS after %ld repetitions (max_repetitions; --max-repetitions N for more)\n",
                             config.c_str(), have[config]);
             return comparison_exit_code(c);
