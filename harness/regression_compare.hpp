@@ -11,8 +11,9 @@
 //   SLOWER     change > +threshold and p < alpha      (a regression)
 //   FASTER     change < -threshold and p < alpha
 //   AMBIGUOUS  beyond the threshold but not significant, or too few samples to tell
-//   NOISY      the candidate is far noisier than the baseline (see `disturbance`), whatever
-//              its change: a machine disturbed while the candidate ran, not the code
+//   NOISY      whatever the change, signs of a machine disturbed while a side ran (see
+//              find_disturbance): the candidate far noisier than the baseline, its
+//              repetitions split in two groups, or one side's repetitions disagreeing
 // AMBIGUOUS and NOISY are inconclusive: the comparison does not know, and says so by its exit
 // code. Work counters are deterministic and compared exactly: any difference is COUNTER
 // CHANGED, which is a regression too.
