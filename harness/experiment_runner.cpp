@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "csv_table.hpp"
 #include "io/csv_writer.hpp"
 #include "multi/rank_group.hpp"
 #include "statistics.hpp"
@@ -170,6 +171,46 @@ SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run)
     return req;
 }
 
+namespace {
+
+// Runs one planned run into `dir` and gives its row of runs.csv; appends the files it wrote.
+std::vector<std::string> run_one(const ExperimentSpec& spec, const PlannedRun& run, const ColumnTable<RunsRow>& table,
+                                 const std::string& dir, const ExperimentRunOptions& options, std::size_t i,
+                                 std::size_t count, std::vector<std::string>& files) {
+    SceneRunRequest req = scene_request(spec, run);
+    req.out_dir = dir;
+    req.progress = !options.quiet;
+    req.metadata = options.metadata;
+    req.metadata.emplace_back("run_id", run.run_id);
+    SceneRunResult result;
+    try {
+        result = run_scene(req);
+    } catch (const InputError& e) {
+        throw InputError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
+    } catch (const RunError& e) {
+        throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
+    }
+    std::string steps_file;
+    for (const auto& f : result.files) {
+        files.push_back(f);
+        if (f.size() >= 10 && f.compare(f.size() - 10, 10, "_steps.csv") == 0) steps_file = fs::path(f).filename().string();
+    }
+    std::vector<std::string> row = table.cells(RunsRow(run, result, steps_file));
+    if (!options.quiet) {
+        const Summary update = summarize(metric_series(result, "update_ms"));
+        const Summary step = summarize(metric_series(result, "step_ms"));
+        std::printf("[%zu/%zu] %s: %zu particles on %s, %zu steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
+                    i + 1, count, run.run_id.c_str(), result.particles, result.device.c_str(), result.steps.size(),
+                    update.median, step.median, result.wall_seconds);
+        if (!result.blow_up.empty()) std::printf("    recorded, not fatal: %s\n", result.blow_up.c_str());
+        for (const auto& [k, v] : result.validation_summary) std::printf("    %s = %.4g\n", k.c_str(), v);
+        std::fflush(stdout);
+    }
+    return row;
+}
+
+}  // namespace
+
 ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs,
                                  const ExperimentRunOptions& options) {
     const std::string dir = experiment_dir(options.out_dir, spec);
@@ -189,36 +230,7 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
             rows.emplace_back();  // filled in below, by the other build
             continue;
         }
-        SceneRunRequest req = scene_request(spec, run);
-        req.out_dir = dir;
-        req.progress = !options.quiet;
-        req.metadata = options.metadata;
-        req.metadata.emplace_back("run_id", run.run_id);
-        SceneRunResult result;
-        try {
-            result = run_scene(req);
-        } catch (const InputError& e) {
-            throw InputError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
-        } catch (const RunError& e) {
-            throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
-        }
-        std::string steps_file;
-        for (const auto& f : result.files) {
-            outcome.files.push_back(f);
-            if (f.size() >= 10 && f.compare(f.size() - 10, 10, "_steps.csv") == 0)
-                steps_file = fs::path(f).filename().string();
-        }
-        rows.push_back(table.cells(RunsRow(run, result, steps_file)));
-        if (!options.quiet) {
-            const Summary update = summarize(metric_series(result, "update_ms"));
-            const Summary step = summarize(metric_series(result, "step_ms"));
-            std::printf("[%zu/%zu] %s: %zu particles on %s, %zu steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
-                        i + 1, runs.size(), run.run_id.c_str(), result.particles, result.device.c_str(),
-                        result.steps.size(), update.median, step.median, result.wall_seconds);
-            if (!result.blow_up.empty()) std::printf("    recorded, not fatal: %s\n", result.blow_up.c_str());
-            for (const auto& [k, v] : result.validation_summary) std::printf("    %s = %.4g\n", k.c_str(), v);
-            std::fflush(stdout);
-        }
+        rows.push_back(run_one(spec, run, table, dir, options, i, runs.size(), outcome.files));
     }
     if (!handed_on.empty()) {
         if (!options.quiet)
@@ -233,6 +245,31 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
         CsvWriter table(outcome.runs_csv, columns, options.metadata);
         for (const auto& row : rows) table.row(row);
         table.commit();
+    }
+    outcome.files.push_back(outcome.runs_csv);
+    return outcome;
+}
+
+ExperimentOutcome append_runs(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs_so_far,
+                              const std::vector<PlannedRun>& more, const ExperimentRunOptions& options) {
+    const std::string dir = experiment_dir(options.out_dir, spec);
+    ExperimentOutcome outcome;
+    outcome.runs_csv = (fs::path(dir) / "runs.csv").string();
+    const CsvTable old = read_csv(outcome.runs_csv);
+    std::vector<PlannedRun> all = runs_so_far;
+    all.insert(all.end(), more.begin(), more.end());
+    const ColumnTable<RunsRow> table = runs_table(all);
+    const std::vector<std::string> columns = table.names();
+    if (old.columns != columns)
+        throw InputError("'" + outcome.runs_csv + "' has other columns than this experiment writes now; run it again "
+                         "(--force) before adding repetitions to it");
+    std::vector<std::vector<std::string>> rows = old.rows;
+    for (std::size_t i = 0; i < more.size(); ++i)
+        rows.push_back(run_one(spec, more[i], table, dir, options, i, more.size(), outcome.files));
+    if (process_ranks().rank() == 0) {
+        CsvWriter writer(outcome.runs_csv, columns, options.metadata);
+        for (const auto& row : rows) writer.row(row);
+        writer.commit();
     }
     outcome.files.push_back(outcome.runs_csv);
     return outcome;

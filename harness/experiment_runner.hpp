@@ -34,6 +34,12 @@ std::string experiment_dir(const std::string& out_dir, const ExperimentSpec& spe
 ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs,
                                  const ExperimentRunOptions& options);
 
+// Runs `more` (further repetitions of runs in the experiment's runs.csv) and rewrites that
+// table, atomically, with their rows after its own. Throws InputError when the table's columns
+// are not those of runs_so_far plus more, and as run_experiment does when a run fails.
+ExperimentOutcome append_runs(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs_so_far,
+                              const std::vector<PlannedRun>& more, const ExperimentRunOptions& options);
+
 // The run's request to run_scene, with the spec's recording choices.
 SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run);
 

@@ -241,7 +241,7 @@ ExperimentSpec load_spec(const std::string& path) {
         r.fail(e.source(), "TOML syntax error: " + std::string(e.description()));
     }
     r.check_keys(doc,
-                 {"name", "reproduces", "description", "steps", "warmup", "repetitions", "seed", "record",
+                 {"name", "reproduces", "description", "steps", "warmup", "repetitions", "max_repetitions", "seed", "record",
                   "snapshot_every", "solver", "runs", "sweep", "host", "stability", "validation", "blow_up"},
                  "the top level");
     ExperimentSpec spec;
@@ -255,6 +255,7 @@ ExperimentSpec load_spec(const std::string& path) {
     spec.steps = r.run_count(doc, "steps", top);
     spec.warmup = r.run_count(doc, "warmup", top);
     spec.repetitions = r.run_count(doc, "repetitions", top);
+    spec.max_repetitions = r.run_count(doc, "max_repetitions", top);
     spec.seed = r.integer(doc, "seed", false, 1, LLONG_MIN, top);
     spec.snapshot_every = r.run_count(doc, "snapshot_every", top);
 

@@ -7,6 +7,8 @@
 //   steps = 1000                       # required; recorded steps per run (> 0)
 //   warmup = 0                         # optional; steps run first and not recorded (>= 0)
 //   repetitions = 1                    # optional; each repetition is its own run (row)
+//   max_repetitions = 16               # optional; `run --baseline` adds repetitions up to this
+//                                      #   many while a verdict against the baseline is inconclusive
 //   seed = 1                           # optional; recorded in the provenance
 //   record = ["summary", "steps"]      # optional; any of summary, steps, snapshots,
 //                                      #   counters-every-step (runs.csv is always written)
@@ -97,7 +99,7 @@ struct StabilityStudy {
 
 struct ExperimentSpec {
     std::string path, name, reproduces, description;
-    long steps = 0, warmup = 0, repetitions = 1;
+    long steps = 0, warmup = 0, repetitions = 1, max_repetitions = 16;
     long long seed = 1;
     std::vector<std::string> record = {"summary"};
     long snapshot_every = 0;

@@ -76,6 +76,8 @@ const std::vector<RunSetting>& run_settings() {
         {"warmup", whole_from(0), "0", "10", true, "steps run first and not recorded"},
         {"snapshot_every", whole_from(0), "0", "0", false, "write an HDF5 snapshot every K steps (0: none)"},
         {"repetitions", whole_from(1), "1", nullptr, true, "runs of each configuration, each its own row"},
+        {"max_repetitions", whole_from(1), "16", nullptr, false,
+         "most repetitions of a configuration that `run --baseline` runs while its verdict is inconclusive"},
     };
     return table;
 }

@@ -70,7 +70,7 @@ struct RunSetting {
     const char* help;
 };
 
-// steps, warmup, snapshot_every, repetitions.
+// steps, warmup, snapshot_every, repetitions, max_repetitions.
 const std::vector<RunSetting>& run_settings_table();
 // Throws std::logic_error for a key not in the table (a programming error).
 const RunSetting& run_setting(const std::string& key);
