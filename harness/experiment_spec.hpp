@@ -4,7 +4,10 @@
 //   name = "fig4"                      # required; results go to results/<name>/
 //   reproduces = "Figure 4: ..."       # required; shown by `sphbench list`
 //   description = "..."                # optional
-//   steps = 1000                       # required; recorded steps per run (> 0)
+//   steps = 1000                       # required; recorded steps per run (> 0); with end_time
+//                                      #   optional: a cap on the steps after the warm-up
+//   end_time = 1.0                     # optional; each run stops at the first step whose
+//                                      #   simulated time reaches it (> 0; `steps` is then a cap)
 //   warmup = 0                         # optional; steps run first and not recorded (>= 0)
 //   repetitions = 1                    # optional; each repetition is its own run (row)
 //   seed = 1                           # optional; recorded in the provenance
@@ -34,6 +37,8 @@
 //   [[runs]]                           # one or more
 //     scene = "armadillo"              #   required; a scene of `sphbench info`
 //     label = "armadillo-2980K"        #   optional; default: scene name and index
+//     steps = 1000                     #   optional: this run's steps (replaces the top level's)
+//     end_time = 0.3                   #   optional: this run's end time (replaces the top level's)
 //     set = { particles = 2980000 }    #   scene options: integer, float or string values
 //     solver = { merge = true }        #   optional per-run overrides of [solver]
 //   [sweep]                            # optional cartesian product over every run: each key a
@@ -73,6 +78,8 @@ struct RunSpec {
     std::string scene, label;
     SettingMap scene_options;  // set = { ... }
     SettingMap solver;         // per-run overrides
+    std::optional<long> steps;        // replaces the spec's steps
+    std::optional<double> end_time;   // replaces the spec's end_time
     std::optional<ValidationRequest> validation;  // replaces the spec's [validation]
     long line = 0;             // where the [[runs]] entry starts, for messages
 };
@@ -97,7 +104,8 @@ struct StabilityStudy {
 
 struct ExperimentSpec {
     std::string path, name, reproduces, description;
-    long steps = 0, warmup = 0, repetitions = 1;
+    long steps = 0, warmup = 0, repetitions = 1;  // steps 0: no cap (only with an end time)
+    double end_time = 0;                           // 0: none
     long long seed = 1;
     std::vector<std::string> record = {"summary"};
     long snapshot_every = 0;
@@ -129,7 +137,8 @@ struct PlannedRun {
     SettingMap scene_options;    // after scaling
     SettingMap solver_settings;  // every solver key, resolved, for CSV columns
     SolverOptions solver;
-    long steps = 0, warmup = 0, snapshot_every = 0;
+    long steps = 0, warmup = 0, snapshot_every = 0;  // steps: recorded steps, or their cap; 0: no cap
+    double end_time = 0;  // > 0: the run stops at the first step that reaches it
     long repetition = 1;  // 1-based
     double scale = 1.0;   // --scale times [host] scale where it applied
     bool reduced_scale = false;

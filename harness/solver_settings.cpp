@@ -76,6 +76,9 @@ const std::vector<RunSetting>& run_settings() {
         {"warmup", whole_from(0), "0", "10", true, "steps run first and not recorded"},
         {"snapshot_every", whole_from(0), "0", "0", false, "write an HDF5 snapshot every K steps (0: none)"},
         {"repetitions", whole_from(1), "1", nullptr, true, "runs of each configuration, each its own row"},
+        // 0, outside the range, is "absent" (as fixed_dt's): the run is then `steps` steps long.
+        {"end_time", number_above(0), "0", "0", true,
+         "stop at the first step whose simulated time reaches T seconds (steps is then a cap)"},
     };
     return table;
 }
@@ -238,6 +241,10 @@ std::string setting_flag(const RunSetting& s) {
 
 long check_run_value(const std::string& key, const std::string& text, const std::string& name) {
     return std::stol(run_setting(key).range.check(name, text));
+}
+
+double check_run_number(const std::string& key, const std::string& text, const std::string& name) {
+    return std::stod(run_setting(key).range.check(name, text));
 }
 
 const char* build_precision() {
