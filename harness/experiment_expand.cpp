@@ -118,15 +118,20 @@ std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& 
             else if (spec.validation) base.validation = *spec.validation;
             // The run's end time: the spec's or --set's, else its validation's. Validation
             // then records the end time the run has.
-            base.end_time = run_end_time > 0 ? run_end_time : base.validation.end_time;
+            const double asked_end_time = run_end_time > 0 ? run_end_time : base.validation.end_time;
+            base.end_time = asked_end_time;
             if (base.validation.enabled()) base.validation.end_time = base.end_time;
             base.scale = options.scale;
             const bool on_host = base.solver.backend == BackendKind::host;
             if (on_host && spec.host) {
                 base.scale *= spec.host->scale;
                 if (spec.host->steps > 0 && !steps_overridden) base.steps = spec.host->steps;
+                if (spec.host->end_time > 0 && !end_time_overridden && base.end_time > 0) {
+                    base.end_time = spec.host->end_time;
+                    if (base.validation.enabled()) base.validation.end_time = base.end_time;
+                }
             }
-            base.reduced_scale = base.scale != 1.0 || base.steps != run_steps;
+            base.reduced_scale = base.scale != 1.0 || base.steps != run_steps || base.end_time != asked_end_time;
             if (base.steps == 0 && base.end_time <= 0)
                 throw InputError(spec.path + ": run '" + config + "' has neither 'steps' nor 'end_time'; give one");
             apply_scale(scene, base.scale);

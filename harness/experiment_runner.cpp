@@ -242,7 +242,8 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
                         result.steps_taken, result.sim_time, result.stopped_by.c_str(), result.wall_seconds,
                         result.seconds_per_sim_second(), result.steps.size(), update.median, step.median);
             if (run.solver.search.verlet)
-                std::printf("    Verlet lists: %ld rebuilds in %ld steps; rebuild step %.3f ms, listed step %.3f ms (means)\n",
+                std::printf("    Verlet lists: %ld rebuilds in %ld steps; rebuild step %.3f ms, listed step %.3f ms (means; "
+                            "nan: no such step)\n",
                             result.cost.rebuild_steps, result.cost.steps, result.cost.rebuild_step_ms(),
                             result.cost.listed_step_ms());
             if (!result.blow_up.empty()) std::printf("    recorded, not fatal: %s\n", result.blow_up.c_str());

@@ -327,10 +327,11 @@ ExperimentSpec load_spec(const std::string& path) {
     if (const toml::node* host = doc.get("host")) {
         const toml::table* t = host->as_table();
         if (!t) r.fail(host->source(), "'host' must be a table, not " + SpecReader::type_name(*host));
-        r.check_keys(*t, {"scale", "steps"}, "[host]");
+        r.check_keys(*t, {"scale", "steps", "end_time"}, "[host]");
         HostReduction h;
         h.scale = r.number(*t, "scale", 1.0, 0.0);
         h.steps = long(r.integer(*t, "steps", false, 0, 1, "[host]"));
+        h.end_time = r.run_number(*t, "end_time");
         spec.host = h;
     }
 

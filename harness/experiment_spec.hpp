@@ -51,7 +51,8 @@
 //   (a [[runs]] entry may carry its own: validation = { every = ..., end_time = ... })
 //   [host]                             # optional; when a run's backend resolves to the host:
 //     scale = 0.01                     #   particle counts times this (dp over its cube root)
-//     steps = 100                      #   replaces steps
+//     steps = 100                      #   replaces steps (with an end time: a cap)
+//     end_time = 0.05                  #   replaces the end time of the runs that have one
 //   [stability]                        # optional; makes the spec a study for `sphbench stability`
 //     probe = "cfl-limit"              #   "cfl-limit" (bisection over cfl) or "energy" (time series)
 //     time = 0.5                       #   simulated seconds a run must reach (absent: `steps` steps);
@@ -91,7 +92,8 @@ struct SweepAxis {
 
 struct HostReduction {
     double scale = 1.0;
-    long steps = 0;  // 0: keep the spec's steps
+    long steps = 0;         // 0: keep the spec's steps
+    double end_time = 0;    // 0: keep the end times; else replaces them (in runs that have one)
 };
 
 struct StabilityStudy {

@@ -124,11 +124,14 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
     const std::vector<PlannedRun>& runs = e.runs;
     const PlannedRun& first = runs.front();
     const bool host_reduced = e.reduced && first.solver.backend == BackendKind::host && spec.host;
-    if (host_reduced && (first.steps == spec.steps || first.steps == 0))
-        std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g)\n", spec.name.c_str(), first.scale);
-    else if (host_reduced)
-        std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g, %ld steps instead of %ld)\n",
-                    spec.name.c_str(), first.scale, first.steps, spec.steps);
+    if (host_reduced) {
+        std::string what = "particles x" + format_number(first.scale);
+        if (spec.host->steps > 0 && first.steps != spec.steps)
+            what += ", " + std::to_string(spec.host->steps) + " steps" +
+                    (spec.steps > 0 ? " instead of " + std::to_string(spec.steps) : std::string());
+        if (spec.host->end_time > 0) what += ", end time " + format_number(spec.host->end_time) + " s";
+        std::printf("%s: no GPU run: reduced scale on the host backend (%s)\n", spec.name.c_str(), what.c_str());
+    }
     if (a.dry_run) {
         print_plan(spec, runs);
         ctx.exit_code = exit_ok;

@@ -62,7 +62,7 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
                     r.wall_seconds, r.seconds_per_sim_second());
     if (req.solver.search.verlet && r.cost.steps > 0)
         std::printf("Verlet lists: %ld rebuilds in %ld steps (every %.1f steps); mean wall time of a rebuild step %.3f ms, "
-                    "of a listed step %.3f ms; lists %.0f bytes per particle\n",
+                    "of a listed step %.3f ms (nan: no such step); lists %.0f bytes per particle\n",
                     r.cost.rebuild_steps, r.cost.steps,
                     r.cost.rebuild_steps > 0 ? double(r.cost.steps) / double(r.cost.rebuild_steps) : 0.0,
                     r.cost.rebuild_step_ms(), r.cost.listed_step_ms(), double(r.list_bytes) / double(r.particles));
