@@ -182,7 +182,7 @@ void add_run_command(CLI::App& app, CommandContext& ctx) {
     cmd->add_option("--set", a->experiment.settings,
                     "override key=value in every run (repeatable): a solver key (" + solver_keys +
                         "), set.<scene option>, steps, end_time, warmup or repetitions");
-    add_end_time_option(*cmd, a->experiment);
+    add_end_time_option(*cmd, a->experiment, std::string(run_setting("end_time").help) + ", in every run");
     cmd->add_option("--scale", a->experiment.scale, "multiply every particle count by F (dp by F^(-1/3))")
         ->check(in_range(number_above(0)));
     cmd->add_option("--backend", a->experiment.backend, "cuda, host or auto (default: the spec's, else auto)")

@@ -144,7 +144,9 @@ void add_stability_command(CLI::App& app, CommandContext& ctx) {
                      "bisection, or the drift of energy and free surface over a long run");
     cmd->add_option("spec", a->experiment.spec, "stability spec, e.g. experiments/stability-cfl.toml")->required();
     cmd->add_option("--set", a->experiment.settings, "override key=value in every run (repeatable), as for `sphbench run`");
-    add_end_time_option(*cmd, a->experiment);
+    add_end_time_option(*cmd, a->experiment,
+                        "the simulated time every trial must reach (replaces end_time and [stability] time); a trial "
+                        "that needs more than `steps` steps is refused");
     cmd->add_option("--scale", a->experiment.scale, "multiply every particle count by F (dp by F^(-1/3))")
         ->check(in_range(number_above(0)));
     cmd->add_option("--backend", a->experiment.backend, "cuda, host or auto (default: the spec's, else auto)")
