@@ -34,7 +34,10 @@ static const Scene& built_scene(const std::string& name, const std::map<std::str
     return cached;
 }
 
-SceneRunResult run_scene(const SceneRunRequest& req) {
+SceneRunResult run_scene(const SceneRunRequest& request) {
+    // A validation request's own end time stops the run too, where the request gives none.
+    SceneRunRequest req = request;
+    if (req.end_time <= 0 && req.validation.enabled()) req.end_time = req.validation.end_time;
     SceneRunResult res;
     const Scene& scene = built_scene(req.scene, req.scene_options);
     res.particles = scene.size();

@@ -21,7 +21,7 @@ struct SceneRunRequest {
     SolverOptions solver;
     long steps = 100;             // recorded steps; with an end time their cap, 0: no cap
     long warmup = 0;              // steps run first and not recorded
-    double end_time = 0;          // > 0: stop at the first step whose simulated time reaches it
+    double end_time = 0;          // > 0: stop at the first step whose simulated time reaches it (0: the validation's)
     long snapshot_every = 0;      // 0: no snapshots
     long count_work_every = 0;    // 0: work counters once, on the state the run ends with
     std::string out_dir;          // "" writes nothing

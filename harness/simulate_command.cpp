@@ -60,7 +60,7 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
         std::printf("whole run: %.3f s wall, %.4g s per simulated second (every step, warm-up, rebuilds, sorts and "
                     "exchanges included)\n",
                     r.wall_seconds, r.seconds_per_sim_second());
-    if (req.solver.search.verlet && r.cost.steps > 0)
+    if (r.list_bytes > 0 && r.cost.steps > 0)  // Verlet lists, asked for or chosen by --auto-search
         std::printf("Verlet lists: %ld rebuilds in %ld steps (every %.1f steps); mean wall time of a rebuild step %.3f ms, "
                     "of a listed step %.3f ms (nan: no such step); lists %.0f bytes per particle\n",
                     r.cost.rebuild_steps, r.cost.steps,
@@ -126,9 +126,9 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
                   "time every search strategy for a few steps first, Verlet lists too (one subdomain), and run the "
                   "fastest (overrides --merge, --cells-per-support, --verlet and --skin)");
     cmd->add_option("--validate", args->validate_every,
-                                     "evaluate the scene's validation metric every DT simulated seconds (dambreak: surge "
-                                     "front against Martin and Moyce; tank: hydrostatic pressure) into SCENE_validation.csv")
-                         ->check(in_range(number_above(0)));
+                    "evaluate the scene's validation metric every DT simulated seconds (dambreak: surge front against "
+                    "Martin and Moyce; tank: hydrostatic pressure) into SCENE_validation.csv")
+        ->check(in_range(number_above(0)));
     add_solver_options(*cmd, args->solver);
     cmd->callback([args, &ctx] {
         check_output_folder("--out", args->out);
