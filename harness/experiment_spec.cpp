@@ -15,6 +15,7 @@
 #define TOML_HEADER_ONLY 1
 #include <toml++/toml.h>
 
+#include "case_file.hpp"
 #include "core/error.hpp"
 #include "scenes/scene.hpp"
 
@@ -198,12 +199,18 @@ RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index)
     if (t->get("end_time")) run.end_time = r.run_number(*t, "end_time");
     run.scene = r.text(*t, "scene", true, "", "[[runs]]");
     const auto& scenes = scene_catalogue();
-    if (std::none_of(scenes.begin(), scenes.end(), [&](const SceneInfo& s) { return s.name == run.scene; })) {
+    if (is_case_scene(run.scene)) {
+        try {
+            load_case_file(case_file_of(run.scene));  // refused here, before any run
+        } catch (const InputError& e) {
+            r.fail(t->get("scene")->source(), "scene '" + run.scene + "': " + e.what());
+        }
+    } else if (std::none_of(scenes.begin(), scenes.end(), [&](const SceneInfo& s) { return s.name == run.scene; })) {
         std::string known;
         for (const auto& s : scenes) known += (known.empty() ? "" : ", ") + s.name;
-        r.fail(t->get("scene")->source(), "unknown scene '" + run.scene + "' (known: " + known + ")");
+        r.fail(t->get("scene")->source(), "unknown scene '" + run.scene + "' (known: " + known + ", or case:FILE)");
     }
-    run.label = filename_safe(r.text(*t, "label", false, run.scene + "-" + std::to_string(index + 1), "[[runs]]"));
+    run.label = filename_safe(r.text(*t, "label", false, scene_stem(run.scene) + "-" + std::to_string(index + 1), "[[runs]]"));
     if (const toml::node* set = t->get("set")) {
         const toml::table* st = set->as_table();
         if (!st) r.fail(set->source(), "'set' must be a table of scene options, not " + SpecReader::type_name(*set));

@@ -35,7 +35,7 @@
 //     diffusion = true                 #   delta-SPH density diffusion
 //     precision = "float32"            #   "float32" or "float64" (specs only: a build property)
 //   [[runs]]                           # one or more
-//     scene = "armadillo"              #   required; a scene of `sphbench info`
+//     scene = "armadillo"              #   required; a scene of `sphbench info`, or "case:FILE" (case_file.hpp)
 //     label = "armadillo-2980K"        #   optional; default: scene name and index
 //     steps = 1000                     #   optional: this run's steps (replaces the top level's)
 //     end_time = 0.3                   #   optional: this run's end time (replaces the top level's)

@@ -18,6 +18,8 @@ void add_info_command(CLI::App& app, CommandContext& ctx) {
         std::printf("GPUs: %s\n", cuda_backend_available() ? cuda.c_str() : "none visible (host backend only)");
         std::printf("scenes:\n");
         for (const auto& s : scene_catalogue()) std::printf("  %-14s %s\n", s.name.c_str(), s.description.c_str());
+        std::printf("  %-14s a case file: a tank, boxes of fluid, obstacles and meshes in metres, no C++ "
+                    "(experiments/cases/)\n", "case:FILE");
         ctx.exit_code = exit_ok;
     });
 }

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "case_file.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "core/error.hpp"
@@ -48,7 +49,7 @@ std::size_t particle_estimate(const PlannedRun& run, std::map<std::string, std::
     for (const auto& [k, v] : options) key += " " + k + "=" + v;
     auto found = cache.find(key);
     if (found == cache.end()) {
-        const Scene probe = make_scene(run.scene, options);
+        const Scene probe = build_scene(run.scene, options);
         if (fluid <= 0 || double(probe.fluid_count()) >= fluid) {
             found = cache.emplace(key, probe.size()).first;
         } else {

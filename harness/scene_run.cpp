@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "case_file.hpp"
 #include "end_time_stop.hpp"
 #include "last_good_sink.hpp"
 #include "multi/rank_group.hpp"
@@ -28,7 +29,7 @@ static const Scene& built_scene(const std::string& name, const std::map<std::str
     for (const auto& [k, v] : options) key += "\n" + k + "=" + v;
     if (key != cached_key) {
         cached_key.clear();  // stays clear if building throws
-        cached = make_scene(name, options);
+        cached = build_scene(name, options);
         cached_key = key;
     }
     return cached;

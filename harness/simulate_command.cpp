@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "case_file.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "scene_run.hpp"
@@ -104,8 +105,18 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     CLI::App* cmd = app.add_subcommand(
         "simulate", "run one scene for N steps or to a simulated time (--end-time), show progress, report its speed: "
                     "seconds per simulated second over the whole run, time per step after the warm-up");
-    cmd->add_option("scene", args->scene, "scene name (see `sphbench info`)")->required();
+    cmd->add_option("scene", args->scene,
+                    "scene name (see `sphbench info`), or case:FILE.toml, a case file: a tank, boxes of fluid, "
+                    "obstacles and meshes in metres (experiments/cases/README.md), e.g. "
+                    "case:experiments/cases/spheric-test2.toml --set dp=0.02")
+        ->required();
     cmd->add_option("--set", args->settings, "scene option key=value (repeatable), e.g. particles=2980000");
+    cmd->footer(
+        "Case files (scene case:FILE.toml; experiments/cases/README.md): [case] dp, description, domain or "
+        "domain_top, and scene options (kernel, c0_factor, alpha, delta, gravity, rho0, coef_h, cfl); [case.tank] "
+        "min, max, open_top, layers, name; [[case.fluid]] min, max, hydrostatic, velocity; [[case.obstacle]] name, "
+        "min, max, layers; [[case.mesh]] file, height, min, up. Lengths in metres; --set dp=... and the scene "
+        "options override the file's.");
     // The run settings' flags, from their table (solver_settings.hpp): the spec keys' ranges.
     for (auto [key, field] : {std::pair{"steps", &args->steps}, std::pair{"warmup", &args->warmup},
                               std::pair{"snapshot_every", &args->snapshot_every}}) {
@@ -142,7 +153,7 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         req.end_time = args->end_time;
         req.snapshot_every = args->snapshot_every;
         req.out_dir = args->out;
-        req.basename = args->scene;
+        req.basename = scene_stem(args->scene);
         req.progress = !args->quiet;
         req.calibrate_search = args->auto_search;
         req.validation = {args->validate_every, args->end_time};

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "case_file.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "core/error.hpp"
@@ -41,7 +42,7 @@ void cfl_limit_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& 
     CsvWriter trials((fs::path(dir) / "trials.csv").string(), trial_table().names(), meta);
     CsvWriter summary((fs::path(dir) / "summary.csv").string(), cfl_limit_table().names(), meta);
     for (const PlannedRun& run : runs) {
-        const Scene scene = make_scene(run.scene, run.scene_options);
+        const Scene scene = build_scene(run.scene, run.scene_options);
         const double time = run.end_time > 0 ? run.end_time : st.time;  // end_time, else [stability] time
         const TrialTarget target{time, run.steps, !quiet};
         const CflLimit lim = find_cfl_limit(scene, run.solver, target, st.cfl_low, st.cfl_high, st.bisections);
@@ -68,7 +69,7 @@ void energy_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
     const StabilityStudy& st = *spec.stability;
     CsvWriter summary((fs::path(dir) / "summary.csv").string(), energy_summary_table().names(), meta);
     for (const PlannedRun& run : runs) {
-        const Scene scene = make_scene(run.scene, run.scene_options);
+        const Scene scene = build_scene(run.scene, run.scene_options);
         std::vector<EnergySample> samples;
         std::optional<EnergySink> energy;
         LastGoodSink last_good_state(dir, run.run_id);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU runs behind results/reference/<gpu>/ and the README's figures, in one command for a
+# The GPU runs behind results/reference/<gpu>/ and the figures of docs/results.md, in one command for a
 # GPU machine (through tools/gpu-run.sh exec). Writes everything under $1 (default results/gpu).
 # `make reference` (tools/reference.py) now runs single, accuracy and multi, resumably, into
 # results/reference/<gpu>[-xN]/; this script keeps the force loop's before/after (forceloop).

@@ -90,7 +90,7 @@ struct CellIn {
 // The force loop: one thread per particle visiting its stencil (particle_force), walls only
 // the fluid of each cell, each range in chunks of 32 candidates tested first and their
 // neighbours' pair bodies run after (add_range_by_hit_masks). Four designs that gave the body
-// fuller warps across ranges measured slower on an H200 (bench/FORCE_LOOP_NOTES.md, changes
+// fuller warps across ranges measured slower on an H200 (docs/force-loop-notes.md, changes
 // 1, 2, 3 and 5); they are in git history.
 template <class Kernel, class Search, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size)
@@ -180,7 +180,7 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
 // every range the warp stores the rows that all its lanes have filled, 128 coalesced bytes a
 // row. Stored lane by lane (build_lists_kernel), each 4-byte entry went to DRAM as a
 // partly written 32-byte sector: 6.8 GB moved for a 0.8 GB list on the dam break, ~6.5 of a
-// rebuild's 8.2 ms (FORCE_LOOP_NOTES.md, change 9). A lane more than list_stage_rows ahead of
+// rebuild's 8.2 ms (docs/force-loop-notes.md, change 9). A lane more than list_stage_rows ahead of
 // the warp's slowest stores the rest of its list itself, and walls store theirs from the start.
 // The same candidates in the same order (the StepwiseRanges test), so the same lists; not for
 // merged runs across a periodic z face, which come in pieces (the driver keeps the other
@@ -386,7 +386,7 @@ ReceivedCount append_received_in(CarriedArrays from, std::uint32_t m, CarriedArr
 }
 
 // SPH_FORCE_LOOP=per-thread in the environment runs forces_kernel where the policy compacts,
-// so that one build times both loops in one lease (bench/FORCE_LOOP_NOTES.md).
+// so that one build times both loops in one lease (docs/force-loop-notes.md).
 bool per_thread_loop_forced() {
     static const bool forced = [] {
         const char* v = std::getenv("SPH_FORCE_LOOP");

@@ -2,7 +2,7 @@
 // Launch choices of the CUDA kernels, kept apart from the kernels (CUB's tuning policies):
 // block sizes, per GPU architecture. A kernel reads its policy as a template argument; the
 // driver functions pick the policy for the GPU.
-// Measured choices and their log: bench/FORCE_LOOP_NOTES.md.
+// Measured choices and their log: docs/force-loop-notes.md.
 namespace sph::gpu {
 
 // The plain per-particle kernels (sort keys, gathers, advance, statistics).
@@ -12,7 +12,7 @@ struct ElementwisePolicy {
 
 // Whether the force loop takes stencil ranges through add_range_by_hit_masks (test 32
 // candidates, then each lane's pair bodies) or candidate by candidate. 2 (the default) is the
-// choice per search measured on an H200 (bench/FORCE_LOOP_NOTES.md, change 6); 0 and 1 force
+// choice per search measured on an H200 (docs/force-loop-notes.md, change 6); 0 and 1 force
 // one way for every search at compile time, to time both on one GPU.
 #ifndef SPH_FORCE_HIT_MASKS
 #define SPH_FORCE_HIT_MASKS 2
@@ -20,7 +20,7 @@ struct ElementwisePolicy {
 
 // Whether the force loop queues each warp's pairs and runs the body on full batches of 32
 // (forces_compacted_kernel, cuda_pair_queue.cuh) or runs it per thread (forces_kernel). 2 (the
-// default) is the choice per search measured on an H200 (bench/FORCE_LOOP_NOTES.md, change 7);
+// default) is the choice per search measured on an H200 (docs/force-loop-notes.md, change 7);
 // 1 compacts for every search and 0 never (SPH_FORCE_LOOP=per-thread at run time also
 // forces the per-thread loop, to time both on one build).
 #ifndef SPH_FORCE_COMPACT

@@ -8,7 +8,7 @@
 //
 // Why: in the per-thread loop a warp runs the body as often as its busiest lane needs, and
 // the lanes' neighbours overlap so little chunk by chunk that about 15 of 32 lanes do work
-// (bench/FORCE_LOOP_NOTES.md, change 7).
+// (docs/force-loop-notes.md, change 7).
 //
 // The queue is a ring of 64 entries in shared memory: a push round adds at most one pair per
 // lane (32) and the warp drains whenever 32 are waiting, so at most 63 are ever held. An

@@ -1,52 +1,15 @@
 // The paper's scenes: a closed mesh (the Stanford Armadillo or Bunny) filled with fluid on a
 // lattice, standing a little above the floor of a closed box of boundary particles, falling
 // and collapsing under gravity.
-#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
 #include "io/obj_mesh.hpp"
 #include "scenes/lattice.hpp"
-#include "scenes/mesh_inside.hpp"
+#include "scenes/mesh_fill.hpp"
 
 namespace sph {
 namespace {
-
-// The meshes are Y-up; the solver's gravity is along -z. Rotate, then scale to `height`.
-TriangleMesh z_up_scaled(const TriangleMesh& in, double height) {
-    TriangleMesh m = in;
-    const double scale = height / (in.hi.y - in.lo.y);
-    m.lo = {1e300, 1e300, 1e300};
-    m.hi = {-1e300, -1e300, -1e300};
-    for (auto& v : m.vertices) {
-        v = {v.x * scale, -v.z * scale, v.y * scale};
-        m.lo = {std::min(m.lo.x, v.x), std::min(m.lo.y, v.y), std::min(m.lo.z, v.z)};
-        m.hi = {std::max(m.hi.x, v.x), std::max(m.hi.y, v.y), std::max(m.hi.z, v.z)};
-    }
-    return m;
-}
-
-struct Fill {
-    Vec3d origin;
-    int n[3];
-    std::vector<std::uint8_t> inside;
-    long long count = 0;
-};
-
-Fill fill_mesh(const TriangleMesh& m, const MeshInsideTest& test, double dp) {
-    Fill f;
-    // Lattice points at integer multiples of dp, so the fill and the box share one lattice.
-    const double lo[3] = {m.lo.x, m.lo.y, m.lo.z}, hi[3] = {m.hi.x, m.hi.y, m.hi.z};
-    long first[3];
-    for (int a = 0; a < 3; ++a) {
-        first[a] = long(std::floor(lo[a] / dp));
-        f.n[a] = int(std::ceil(hi[a] / dp) - first[a]) + 1;
-    }
-    f.origin = {first[0] * dp, first[1] * dp, first[2] * dp};
-    f.inside = test.lattice_inside(f.origin, dp, f.n[0], f.n[1], f.n[2]);
-    for (auto b : f.inside) f.count += b;
-    return f;
-}
 
 Scene make_mesh_scene(SceneOptions& opt, const std::string& name, const std::string& default_mesh) {
     Scene s;
@@ -54,11 +17,12 @@ Scene make_mesh_scene(SceneOptions& opt, const std::string& name, const std::str
     const std::string path = find_mesh(opt.text("mesh", default_mesh));
     const TriangleMesh mesh = z_up_scaled(read_obj(path, MeshCheck::AllowSmallHoles), opt.number("height", 1.0, 1e-3, 1e3));
     const MeshInsideTest test(mesh);
+    const Vec3d lattice_origin{0, 0, 0};  // the fill and the box share one lattice
     const long long target = opt.integer("particles", 100000, 100, 2'000'000'000LL);
     if (opt.has("dp")) throw InputError("scene '" + name + "' takes 'particles', not 'dp'");
     s.dp = pick_spacing(std::cbrt(mesh.volume() / double(target)), target,
-                        [&](double dp) { return fill_mesh(mesh, test, dp).count; }, name);
-    const Fill fill = fill_mesh(mesh, test, s.dp);
+                        [&](double dp) { return fill_mesh(mesh, test, dp, lattice_origin).count; }, name);
+    const MeshFill fill = fill_mesh(mesh, test, s.dp, lattice_origin);
     const double dp = s.dp;
     const double drop = opt.number("drop", 0.1, 0, 100) * (mesh.hi.z - mesh.lo.z);
     const double spread = opt.number("spread", 0.5, 0.05, 100);  // box = mesh footprint grown by this on each side
@@ -71,11 +35,12 @@ Scene make_mesh_scene(SceneOptions& opt, const std::string& name, const std::str
                     long(std::ceil((mesh.hi.z + 0.1 * (mesh.hi.z - mesh.lo.z)) / dp)) + 1}};
     add_box_boundary(s, origin, box, layers, false);
     s.n_boundary = s.size();
+    s.bodies = {{"tank", 0, s.n_boundary}};  // the closed box
     for (int i = 0; i < fill.n[0]; ++i)
         for (int j = 0; j < fill.n[1]; ++j)
             for (int k = 0; k < fill.n[2]; ++k)
                 if (fill.inside[(std::size_t(i) * fill.n[1] + j) * fill.n[2] + k]) {
-                    s.position.push_back({fill.origin.x + i * dp, fill.origin.y + j * dp, fill.origin.z + k * dp});
+                    s.position.push_back({fill.first.x + i * dp, fill.first.y + j * dp, fill.first.z + k * dp});
                     s.velocity.push_back({0, 0, 0});
                 }
     const double g = opt.number("gravity", 9.81, 0, 1e3);

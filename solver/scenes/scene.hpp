@@ -12,6 +12,14 @@
 
 namespace sph {
 
+// A named group of boundary particles (a tank, an obstacle): particles [first, first + count)
+// of the scene, whose indices are the ids the particles keep through the run, so that a
+// force gauge can sum over a body without a per-particle array on the device.
+struct BoundaryBody {
+    std::string name;
+    std::size_t first = 0, count = 0;
+};
+
 struct Scene {
     std::string name;
     PhysicsParams params;
@@ -23,11 +31,17 @@ struct Scene {
     std::vector<std::array<float, 3>> velocity;
     std::vector<float> density;           // empty: rho0 everywhere
     std::size_t n_boundary = 0;           // the first n_boundary particles are boundary
+    std::vector<BoundaryBody> bodies;     // disjoint ranges of the boundary; may be empty
     double cfl = 0.2;                     // the scene's default CFL number
     std::map<std::string, std::string> settings;  // every option as resolved, for provenance
 
     std::size_t size() const { return position.size(); }
     std::size_t fluid_count() const { return size() - n_boundary; }
+    const BoundaryBody* body(const std::string& body_name) const {
+        for (const auto& b : bodies)
+            if (b.name == body_name) return &b;
+        return nullptr;
+    }
 };
 
 // Scene options as key = value text, from the command line or a spec. Each scene reads the

@@ -51,9 +51,13 @@ Scene make_dsph_dambreak(SceneOptions& opt) {
     const double origin[3] = {0, 0, 0};
     const double dp = s.dp;
     add_box_boundary(s, origin, {{0, 0, 0}, {lattice_index(L, dp), lattice_index(W, dp), lattice_index(H, dp)}}, 1, true);
-    if (obstacle)
+    s.bodies.push_back({"tank", 0, s.size()});
+    if (obstacle) {
+        const std::size_t first = s.size();
         add_solid_box_surface(s, origin, {{lattice_index(0.9, dp), lattice_index(0.24, dp), 0},
                                           {lattice_index(1.02, dp), lattice_index(0.36, dp), lattice_index(0.45, dp)}});
+        s.bodies.push_back({"obstacle", first, s.size() - first});
+    }
     s.n_boundary = s.size();
     add_fluid_box(s, origin, fluid_box(dp));
     const double g = opt.number("gravity", g_default, 0, 1e3);
@@ -88,6 +92,7 @@ Scene make_dambreak(SceneOptions& opt) {
     add_box_boundary(s, origin, {{0, 0, 0}, {lattice_index(L, s.dp), lattice_index(W, s.dp), lattice_index(H, s.dp)}},
                      layers, true);
     s.n_boundary = s.size();
+    s.bodies = {{"tank", 0, s.n_boundary}};
     add_fluid_box(s, origin, fluid_box(s.dp));
     // A high-speed impact: the column starts moving towards the far wall. Read only when
     // given, so that the default scene's resolved settings (and results) stay as they were.
@@ -124,6 +129,7 @@ Scene make_tank(SceneOptions& opt) {
     const long top = lattice_index(D * 1.25, s.dp) + 2;
     add_box_boundary(s, origin, {{0, 0, 0}, {lattice_index(L, s.dp), lattice_index(W, s.dp), top}}, layers, true);
     s.n_boundary = s.size();
+    s.bodies = {{"tank", 0, s.n_boundary}};
     const LatticeBox f = fluid_box(s.dp);
     add_fluid_box(s, origin, f);
     const double g = opt.number("gravity", g_default, 0, 1e3);

@@ -1,0 +1,21 @@
+"""Per-window summary of a steps CSV (sphbench simulate --out): rebuilds, the rebuild and
+listed steps' wall times, the list phase, forces; and the whole run's seconds per simulated
+second. Usage: step_windows.py LABEL=STEPS_CSV ... (prints CSV on stdout)."""
+import sys
+
+import pandas as pd
+
+WINDOWS = [(0, 0.05), (0.05, 0.3), (0.3, 0.6), (0.6, 1.0), (0, 1.0)]
+print("run,window_s,steps,rebuilds,steps_per_rebuild,rebuild_step_ms,list_phase_ms,listed_step_ms,forces_ms,s_per_sim_s")
+for arg in sys.argv[1:]:
+    label, path = arg.split("=", 1)
+    d = pd.read_csv(path, comment="#")
+    for lo, hi in WINDOWS:
+        w = d[(d.time >= lo) & (d.time < hi)]
+        if w.empty:
+            continue
+        r = w.neighbour_list_ms > 0
+        span = w.time.iloc[-1] - (d.time[w.index[0] - 1] if w.index[0] > 0 else 0.0)
+        print(f"{label},{lo}-{hi},{len(w)},{int(r.sum())},{len(w) / max(int(r.sum()), 1):.2f},"
+              f"{w.wall_ms[r].mean():.3f},{w.neighbour_list_ms[r].mean():.3f},{w.wall_ms[~r].mean():.3f},"
+              f"{w.forces_ms.mean():.3f},{w.wall_ms.sum() / 1e3 / span:.2f}")
