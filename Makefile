@@ -10,7 +10,7 @@ SPHBENCH := $(BUILD)/harness/sphbench
 BUILD_F64 ?= build-f64
 PYTHON ?= python3
 
-.PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl \
+.PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl whole-run \
         transports table-vl perf-check perf-accept stability skip-bench accuracy reference reference-figures claims clean
 
 all: build
@@ -35,6 +35,11 @@ fig3 fig4: fig%: build
 
 multi-gpu cll-vs-vl: build
 	$(SPHBENCH) run experiments/$@.toml
+
+# Issue 25: whole events from rest (dam break 1.04M to 1 s, 4.04M to 0.3 s, armadillo 2980K
+# over 1000 steps), seconds per simulated second and the lists' rebuilds, in results/whole-run/runs.csv.
+whole-run: build
+	$(SPHBENCH) run experiments/whole-run.toml
 
 fig5 fig6 fig7 fig8 fig9: fig%: multi-gpu
 	$(PYTHON) plots/fig$*.py

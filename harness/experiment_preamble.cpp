@@ -12,6 +12,15 @@
 
 namespace sph {
 
+void add_end_time_option(CLI::App& cmd, ExperimentArgs& args, const std::string& help) {
+    const RunSetting& s = run_setting("end_time");
+    cmd.add_option_function<std::string>(
+           setting_flag(s), [&args](const std::string& t) { args.settings.push_back("end_time=" + t); },
+           help + "; the same as --set end_time=T")
+        ->check(in_range(s.range))
+        ->type_name("FLOAT");
+}
+
 Experiment load_experiment(const ExperimentArgs& a, ExperimentKind kind) {
     Experiment e;
     e.spec = load_spec(a.spec);

@@ -51,11 +51,16 @@ struct RunsRow {
     std::string steps_file;
     std::vector<Summary> times;  // in the order of time_metrics()
 };
-// The columns of runs.csv, each beside its value: the settings and sizes, the solver keys, the
-// scene options of any run, each time metric's median, quartiles and minimum, throughput,
-// counters; blow_up where a run records blow-ups; validation columns where a run validates.
+// The columns of runs.csv, each beside its value: the settings and sizes; the whole run from
+// t = 0 (end_time, steps, warmup, window_steps, stopped_by, sim_time, wall_s, s_per_sim_s, and
+// with Verlet lists list_rebuilds, rebuild_step_ms, listed_step_ms, list_bytes_per_particle);
+// the solver keys, the scene options of any run, each time metric's median, quartiles and
+// minimum over the window after the warm-up, throughput, counters; blow_up where a run records
+// blow-ups; validation columns where a run validates.
 ColumnTable<RunsRow> runs_table(const std::vector<PlannedRun>& runs);
 std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs);
+// The provenance line "columns" of runs.csv: which columns are of the whole run, which of the window.
+const char* runs_columns_note();
 
 // The time metrics of runs.csv: update_ms (slowest subdomain's forces plus integration, the
 // paper's real time), update_ideal_ms (their mean), step_ms, then each phase's "<phase>_ms".

@@ -70,8 +70,10 @@ std::size_t particle_estimate(const PlannedRun& run, std::map<std::string, std::
 void print_plan(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs) {
     std::printf("%s: %s\n%zu runs from %s\n", spec.name.c_str(), spec.reproduces.c_str(), runs.size(),
                 spec.path.c_str());
-    std::printf("%-40s %-14s %6s %6s  %-30s %s\n", "run_id", "scene", "steps", "warmup", "scene options", "solver (non-default)");
+    std::printf("%-40s %-14s %6s %6s %8s  %-30s %s\n", "run_id", "scene", "steps", "warmup", "end_time", "scene options",
+                "solver (non-default)");
     double cuda_work = 0, host_work = 0;
+    std::size_t uncapped = 0;  // runs to an end time without a step cap: their steps are not known ahead
     std::map<std::string, std::size_t> estimates;
     for (const auto& r : runs) {
         std::string opts, solver = r.solver.backend == BackendKind::cuda ? "cuda" : "host";
@@ -79,8 +81,14 @@ void print_plan(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs)
         static const SettingMap defaults = complete_solver_settings({});
         for (const auto& [k, v] : r.solver_settings)  // only what differs from the defaults
             if (k != "backend" && defaults.at(k) != v) solver += " " + k + "=" + v;
-        std::printf("%-40s %-14s %6ld %6ld  %-30s %s\n", r.run_id.c_str(), r.scene.c_str(), r.steps, r.warmup,
-                    opts.empty() ? "(defaults)" : opts.c_str(), solver.c_str());
+        const std::string steps = r.steps > 0 ? std::to_string(r.steps) : "-";
+        const std::string end = r.end_time > 0 ? format_number(r.end_time) + " s" : "-";
+        std::printf("%-40s %-14s %6s %6ld %8s  %-30s %s\n", r.run_id.c_str(), r.scene.c_str(), steps.c_str(), r.warmup,
+                    end.c_str(), opts.empty() ? "(defaults)" : opts.c_str(), solver.c_str());
+        if (r.steps == 0) {
+            ++uncapped;
+            continue;
+        }
         const double work = double(particle_estimate(r, estimates)) * double(r.steps + r.warmup);
         (r.solver.backend == BackendKind::cuda ? cuda_work : host_work) += work;
     }
@@ -89,6 +97,10 @@ void print_plan(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs)
     std::printf("cost: %.3g particle-steps (boundary included); about %.0f s (rough rates: %.0e particle-steps/s on CUDA, %.0e per core "
                 "on the host, %d cores)\n",
                 cuda_work + host_work, seconds, cuda_rate, host_rate_per_core, cores);
+    if (uncapped > 0)
+        std::printf("(%zu run(s) to an end time without a step cap are not in the estimate: their step counts are "
+                    "known only as they run)\n",
+                    uncapped);
 }
 
 void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs, const RunArgs& a,
@@ -100,8 +112,9 @@ void profile_pass(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
                 profile_steps, a.experiment.out.c_str(), spec.name.c_str(), cmd.c_str());
     for (const auto& run : runs) {
         SceneRunRequest req = scene_request(spec, run);
-        req.steps = std::min(run.steps, profile_steps);
+        req.steps = run.steps > 0 ? std::min(run.steps, profile_steps) : profile_steps;
         req.warmup = 0;
+        req.end_time = 0;  // a short pass of steps, whatever the run's end time
         req.snapshot_every = 0;
         req.out_dir.clear();
         req.progress = !a.quiet;
@@ -193,11 +206,14 @@ void run_spec(const RunArgs& a, CommandContext& ctx) {
     const std::vector<PlannedRun>& runs = e.runs;
     const PlannedRun& first = runs.front();
     const bool host_reduced = e.reduced && first.solver.backend == BackendKind::host && spec.host;
-    if (host_reduced && first.steps == spec.steps)
-        std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g)\n", spec.name.c_str(), first.scale);
-    else if (host_reduced)
-        std::printf("%s: no GPU run: reduced scale on the host backend (particles x%g, %ld steps instead of %ld)\n",
-                    spec.name.c_str(), first.scale, first.steps, spec.steps);
+    if (host_reduced) {
+        std::string what = "particles x" + format_number(first.scale);
+        if (spec.host->steps > 0 && first.steps != spec.steps)
+            what += ", " + std::to_string(spec.host->steps) + " steps" +
+                    (spec.steps > 0 ? " instead of " + std::to_string(spec.steps) : std::string());
+        if (spec.host->end_time > 0) what += ", end time " + format_number(spec.host->end_time) + " s";
+        std::printf("%s: no GPU run: reduced scale on the host backend (%s)\n", spec.name.c_str(), what.c_str());
+    }
     if (a.dry_run) {
         print_plan(spec, runs);
         ctx.exit_code = exit_ok;
@@ -250,7 +266,8 @@ void add_run_command(CLI::App& app, CommandContext& ctx) {
     for (const auto& k : solver_setting_keys()) solver_keys += (solver_keys.empty() ? "" : ", ") + k;
     cmd->add_option("--set", a->experiment.settings,
                     "override key=value in every run (repeatable): a solver key (" + solver_keys +
-                        "), set.<scene option>, steps, warmup or repetitions");
+                        "), set.<scene option>, steps, end_time, warmup or repetitions");
+    add_end_time_option(*cmd, a->experiment, std::string(run_setting("end_time").help) + ", in every run");
     cmd->add_option("--scale", a->experiment.scale, "multiply every particle count by F (dp by F^(-1/3))")
         ->check(in_range(number_above(0)));
     cmd->add_option("--backend", a->experiment.backend, "cuda, host or auto (default: the spec's, else auto)")

@@ -78,6 +78,9 @@ const std::vector<RunSetting>& run_settings() {
         {"repetitions", whole_from(1), "1", nullptr, true, "runs of each configuration, each its own row"},
         {"max_repetitions", whole_from(1), "16", nullptr, false,
          "most repetitions of a configuration that `run --baseline` runs while its verdict is inconclusive"},
+        // 0, outside the range, is "absent" (as fixed_dt's): the run is then `steps` steps long.
+        {"end_time", number_above(0), "0", "0", true,
+         "stop at the first step whose simulated time reaches T seconds (steps is then a cap)"},
     };
     return table;
 }
@@ -240,6 +243,10 @@ std::string setting_flag(const RunSetting& s) {
 
 long check_run_value(const std::string& key, const std::string& text, const std::string& name) {
     return std::stol(run_setting(key).range.check(name, text));
+}
+
+double check_run_number(const std::string& key, const std::string& text, const std::string& name) {
+    return std::stod(run_setting(key).range.check(name, text));
 }
 
 const char* build_precision() {

@@ -212,7 +212,8 @@ def ours_per_step(text):
         if m:
             case = m.group(2).strip() if m.group(1) == "sphbench" else None
             continue
-        m = re.match(r"time per step: median ([0-9.]+) ms", line)
+        # "time per step in the window:" since the summary leads with the whole run (issue 25)
+        m = re.match(r"time per step(?: in the window)?: median ([0-9.]+) ms", line)
         if m and case is not None:
             out[case] = float(m.group(1))
     return out

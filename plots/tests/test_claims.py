@@ -76,6 +76,11 @@ class BenchmarkLogs(unittest.TestCase):
                "scene dsph-dambreak\ntime per step: median 13.488 ms (quartiles 1 to 2)\n")
         self.assertEqual(claims.ours_per_step(old), {"dsph-dambreak": 3.536})
         self.assertEqual(claims.ours_per_step(new), {"dsph-dambreak --set dp=0.0028": 13.488})
+        # Since the summary leads with the whole run, the window's line says so (issue 25).
+        windowed = ("== sphbench simulate dsph-dambreak --steps 300 --warmup 20 --backend cuda --quiet --out x\n"
+                    "whole run: 0.500 s wall, 62.1 s per simulated second\n"
+                    "time per step in the window: median 1.135 ms (quartiles 1 to 2)\n")
+        self.assertEqual(claims.ours_per_step(windowed), {"dsph-dambreak": 1.135})
 
     def test_a_folder_of_make_reference_names_its_commit(self):
         with tempfile.TemporaryDirectory() as t:
