@@ -36,6 +36,9 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
     const double pairs = r.work.samples ? double(r.work.neighbours) / double(r.work.samples) : 0;
     std::printf("scene %s on %s (%s): %zu particles (%zu fluid, %zu boundary), spacing %.6g m\n", req.scene.c_str(),
                 r.device.c_str(), backend_name(req.solver.backend).c_str(), r.particles, r.fluid, r.boundary, r.dp);
+    if (req.solver.variants != ImplementationVariants{})
+        std::printf("implementation variants: %s%s\n", describe_implementation_variants(req.solver.variants).c_str(),
+                    req.solver.backend == BackendKind::cuda ? "" : " (the host backend has one loop each: no effect)");
     if (r.steps.empty()) return;
     const StepRecord& last = r.steps.back();
     std::printf("%zu steps recorded after %ld warm-up, simulated time %.5g s, last dt %.3g s\n", r.steps.size(),
@@ -117,6 +120,7 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         req.validation = {args->validate_every, args->end_time};
         req.metadata = provenance(backend_name(req.solver.backend),
                                   req.solver.backend == BackendKind::cuda ? cuda_device_summary() : "host",
+                                  describe_implementation_variants(req.solver.variants),
                                   command_line_of(ctx.argc, ctx.argv));
         const SceneRunResult r = run_scene(req);
         print_summary(req, r);

@@ -3,9 +3,6 @@
 // cuda_launch_policy.cuh, the variant from SubdomainConfig::variants.
 #include <cub/block/block_reduce.cuh>
 
-#include <cstdlib>
-#include <string>
-
 #include "backend/cuda_cell_forces.cuh"
 #include "backend/cuda_check.cuh"
 #include "backend/cuda_pair_queue.cuh"
@@ -114,26 +111,19 @@ __global__ void count_work_kernel(ForceInputs in, PhysicsParams p, ActiveRange r
 
 }  // namespace
 
-// SPH_FORCE_LOOP=per-thread in the environment runs forces_kernel where the policy compacts,
-// so that one build times both loops in one lease (bench/FORCE_LOOP_NOTES.md).
-bool per_thread_loop_forced() {
-    static const bool forced = [] {
-        const char* v = std::getenv("SPH_FORCE_LOOP");
-        return v != nullptr && std::string(v) == "per-thread";
-    }();
-    return forced;
-}
-
 void compute_forces(const SubdomainConfig& cfg, const ForceInputs& in, real4* force, ActiveRange range,
                     std::uint32_t n, cudaStream_t s) {
     if (n == 0) return;
+    // force_loop = per-thread runs forces_kernel where the policy compacts: the loop merged
+    // z-runs across a periodic z face need, selectable to test and time it on any grid.
+    const bool per_thread = cfg.variants.force_loop == ForceLoopVariant::per_thread;
     dispatch_physics(cfg.kernel, cfg.diffusion, cfg.search, [&](auto k, auto srch, auto diffusion) {
         using Kernel = typename decltype(k)::type;
         using Search = typename decltype(srch)::type;
         constexpr bool Diffusion = decltype(diffusion)::value;
         using Policy = ForceLoopPolicy;
         if constexpr (Policy::template compacted<Search>) {
-            if (!(Search::merge && in.grid.periodic_z) && !per_thread_loop_forced()) {
+            if (!(Search::merge && in.grid.periodic_z) && !per_thread) {
                 forces_compacted_kernel<Kernel, Search, Diffusion, Policy>
                     <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, cfg.params, force, range);
                 return;

@@ -4,9 +4,6 @@
 // SubdomainConfig::variants.
 #include <cub/device/device_reduce.cuh>
 
-#include <cstdlib>
-#include <string>
-
 #include "backend/cuda_check.cuh"
 #include "backend/cuda_neighbour_lists.cuh"
 #include "physics/dispatch.hpp"
@@ -125,28 +122,20 @@ __global__ void cell_coords_kernel(const std::uint32_t* cell, const real4* pos, 
 
 }  // namespace
 
-// SPH_LIST_BUILD=per-lane in the environment builds the lists lane by lane (build_lists_kernel)
-// where the policy walks in step, to time both on one build.
-bool per_lane_list_build_forced() {
-    static const bool forced = [] {
-        const char* v = std::getenv("SPH_LIST_BUILD");
-        return v != nullptr && std::string(v) == "per-lane";
-    }();
-    return forced;
-}
-
+// list_entries = plain keeps the plain entries where cell offsets would fit: the layout of
+// periodic grids, wide stencils and large subdomains, selectable to test it on any grid.
 bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n) {
-    static const bool plain = [] {
-        const char* v = std::getenv("SPH_LIST_ENTRIES");
-        return v != nullptr && std::string(v) == "plain";
-    }();
-    return !plain && !cfg.grid.any_periodic() && ListEntry::fits(n, cfg.search.cells_per_support);
+    return cfg.variants.list_entries == ListEntriesVariant::automatic && !cfg.grid.any_periodic() &&
+           ListEntry::fits(n, cfg.search.cells_per_support);
 }
 
+// list_build = per-lane builds lane by lane (build_lists_kernel) where the policy walks in
+// step: the build merged z-runs across a periodic z face need, selectable to test it anywhere.
 template <class Search, bool CellOffsets>
-void launch_list_build(const ForceInputs& in, real reach2, std::uint32_t* index, std::uint32_t* count,
-                       std::uint32_t stride, std::uint32_t capacity, ActiveRange range, std::uint32_t n, cudaStream_t s) {
-    const bool in_step = ListedLoopPolicy::build_in_step && !per_lane_list_build_forced();
+void launch_list_build(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
+                       std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, ActiveRange range,
+                       std::uint32_t n, cudaStream_t s) {
+    const bool in_step = ListedLoopPolicy::build_in_step && cfg.variants.list_build == ListBuildVariant::automatic;
     if (in_step && !(Search::merge && in.grid.periodic_z))
         build_lists_in_step_kernel<Search, CellOffsets>
             <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
@@ -164,12 +153,12 @@ void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, re
         using Search = typename decltype(srch)::type;
         if constexpr (Search::n <= ListEntry::reach_cells) {
             if (cell_offsets) {
-                launch_list_build<Search, true>(in, reach2, index, count, stride, capacity, range, n, s);
+                launch_list_build<Search, true>(cfg, in, reach2, index, count, stride, capacity, range, n, s);
                 return;
             }
         }
         if (cell_offsets) throw RunError("lists with cell offsets need a stencil of at most 3 cells a side");
-        launch_list_build<Search, false>(in, reach2, index, count, stride, capacity, range, n, s);
+        launch_list_build<Search, false>(cfg, in, reach2, index, count, stride, capacity, range, n, s);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }
@@ -188,17 +177,6 @@ std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* te
     SPH_CUDA_CHECK(cudaMemcpyAsync(&longest, out, sizeof longest, cudaMemcpyDeviceToHost, s));
     SPH_CUDA_CHECK(cudaStreamSynchronize(s));
     return longest;
-}
-
-// SPH_LISTED_POLICY=no-lookahead or =split-loads in the environment runs a variant of the
-// listed loop's policy (cuda_launch_policy.cuh), to time it beside the policy on one build.
-int listed_policy_variant() {
-    static const int variant = [] {
-        const char* v = std::getenv("SPH_LISTED_POLICY");
-        const std::string name = v != nullptr ? v : "";
-        return name == "no-lookahead" ? 1 : name == "split-loads" ? 2 : 0;
-    }();
-    return variant;
 }
 
 template <class Policy>
@@ -223,11 +201,7 @@ void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, co
     if (n == 0) return;
     if (list.cell_offsets && (in.grid.any_periodic() || in.build_frame == nullptr))
         throw RunError("a list with cell offsets needs an open grid and the positions of its rebuild");
-    switch (listed_policy_variant()) {
-    case 1: launch_forces_listed_layout<ListedLoopNoLookahead>(cfg, in, list, force, range, n, s); break;
-    case 2: launch_forces_listed_layout<ListedLoopSplitLoads>(cfg, in, list, force, range, n, s); break;
-    default: launch_forces_listed_layout<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
-    }
+    launch_forces_listed_layout<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
     SPH_CUDA_CHECK_LAUNCH();
 }
 

@@ -53,7 +53,7 @@ struct SubdomainConfig {
     bool diffusion = true;
     SearchOptions search;
     bool integrate_boundary = false;  // true only to measure what skipping it saves (skip_bench)
-    ImplementationVariants variants;  // how the CUDA drivers run the phases (implementation_variants.hpp)
+    ImplementationVariants variants{};  // how the CUDA drivers run the phases (implementation_variants.hpp)
 };
 
 struct WorkCounters {
