@@ -61,7 +61,9 @@ TEST(ImplementationVariants, EveryValueIsSetByNameAndReadBack) {
             EXPECT_EQ(implementation_variant_value(v, e), value);
             // Only that variant moved.
             for (const ImplementationVariant& other : implementation_variant_registry())
-                if (&other != &e) EXPECT_EQ(implementation_variant_value(v, other), other.fallback());
+                if (&other != &e) {
+                    EXPECT_EQ(implementation_variant_value(v, other), other.fallback());
+                }
             EXPECT_EQ(v == ImplementationVariants{}, value == e.fallback()) << e.name << "=" << value;
         }
     ImplementationVariants v;
