@@ -71,8 +71,10 @@ std::string overrides_text(const ExperimentArgs& a) {
 
 Metadata experiment_metadata(const Experiment& e, const ExperimentArgs& a, const CommandContext& ctx) {
     const ExperimentSpec& spec = e.spec;
+    std::vector<ImplementationVariants> variants;
+    for (const PlannedRun& r : e.runs) variants.push_back(r.solver.variants);
     Metadata meta = provenance(e.backend, e.backend == "host" ? "host" : cuda_device_summary(),
-                               command_line_of(ctx.argc, ctx.argv));
+                               describe_implementation_variants(variants), command_line_of(ctx.argc, ctx.argv));
     for (auto& kv : Metadata{{"experiment", spec.name},
                              {"reproduces", spec.reproduces},
                              {"spec", spec.path},

@@ -67,6 +67,9 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
                     r.cost.rebuild_steps, r.cost.steps,
                     r.cost.rebuild_steps > 0 ? double(r.cost.steps) / double(r.cost.rebuild_steps) : 0.0,
                     r.cost.rebuild_step_ms(), r.cost.listed_step_ms(), double(r.list_bytes) / double(r.particles));
+    if (req.solver.variants != ImplementationVariants{})
+        std::printf("implementation variants: %s%s\n", describe_implementation_variants(req.solver.variants).c_str(),
+                    req.solver.backend == BackendKind::cuda ? "" : " (the host backend has one loop each: no effect)");
     if (r.steps.empty()) return;
     const StepRecord& last = r.steps.back();
     std::printf("window: %zu steps after the %ld warm-up, last dt %.3g s\n", r.steps.size(), req.warmup, last.dt);
@@ -159,6 +162,7 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         req.validation = {args->validate_every, args->end_time};
         req.metadata = provenance(backend_name(req.solver.backend),
                                   req.solver.backend == BackendKind::cuda ? cuda_device_summary() : "host",
+                                  describe_implementation_variants(req.solver.variants),
                                   command_line_of(ctx.argc, ctx.argv));
         const SceneRunResult r = run_scene(req);
         print_summary(req, r);

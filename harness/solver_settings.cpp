@@ -19,7 +19,7 @@ void check_balancer(const std::string& text) { make_balancer(text); }  // throws
 // Ranges: skin wider than the support grows the lists by (1 + skin)^3 for nothing, and a skin
 // of 0 would rebuild every step (verlet = false does that without the lists); fixed_dt and
 // cfl are "absent" at 0, so 0 itself is refused.
-const std::vector<SolverSetting>& settings() {
+const std::vector<SolverSetting>& solver_option_settings() {
     static const std::vector<SolverSetting> table = {
         {"backend", SettingKind::text, "auto", {}, {"auto", "cuda", "host"}, nullptr,
          "where to run: cuda, host, or auto (CUDA when a GPU is present)", true},
@@ -67,6 +67,19 @@ const std::vector<SolverSetting>& settings() {
          "float32 or float64: fixed when sphbench is compiled, so a spec's float64 runs need a float64 build",
          false},
     };
+    return table;
+}
+
+// The table: the settings above, then one text setting per implementation variant, made from
+// its registry (backend/implementation_variants.hpp) so that a name, a value or a default is
+// written once.
+const std::vector<SolverSetting>& settings() {
+    static const std::vector<SolverSetting> table = [] {
+        std::vector<SolverSetting> t = solver_option_settings();
+        for (const ImplementationVariant& v : implementation_variant_registry())
+            t.push_back({v.name, SettingKind::text, v.fallback().c_str(), {}, v.values, nullptr, v.why, true});
+        return t;
+    }();
     return table;
 }
 
@@ -218,6 +231,8 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
     o.fixed_dt = std::stod(c.at("fixed_dt"));
     o.cfl = std::stod(c.at("cfl"));
     o.diffusion = c.at("diffusion") == "true";
+    for (const ImplementationVariant& v : implementation_variant_registry())
+        set_implementation_variant(o.variants, v.name, c.at(v.name));
     return o;
 }
 

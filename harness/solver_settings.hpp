@@ -32,7 +32,9 @@ struct SolverSetting {
 // of a one-subdomain run), device_map (GPU of each subdomain), share_gpus (MPI ranks sharing
 // a node's GPUs), balancer, transport, gpu_direct (GPU memory to MPI), overlap
 // (paper 5.3's communication hidden under the inner update), cells_per_support, merge, verlet, skin, rebuild_every, fixed_dt (0: CFL-limited), cfl (0:
-// the scene's), diffusion, precision.
+// the scene's), diffusion, precision, then the implementation variants of the CUDA backend
+// (backend/implementation_variants.hpp: force_loop, list_build, list_entries; text settings
+// whose values and default come from that registry).
 const std::vector<SolverSetting>& solver_settings_table();
 const SolverSetting* find_solver_setting(const std::string& key);
 

@@ -77,7 +77,7 @@ BENCHMARK_CASES = [
     "armadillo --set particles=2980000 --verlet --cells-per-support 2 --skin 0.05",
 ]
 CALIBRATION_CASES = ["armadillo --set particles=2980000", "bunny --set particles=3049000", "dsph-dambreak"]
-CUDA_TEST_FILTER = "*Forces.*:CudaBackend.*:*CudaTransports*:*StencilFluidCells*"
+CUDA_TEST_FILTER = "*Forces.*:CudaBackend.*:*CudaTransports*:*CudaVariants*:*StencilFluidCells*"
 STABILITY_STUDIES = ["stability-cfl", "stability-still-water", "stability-impact", "stability-armadillo"]
 
 

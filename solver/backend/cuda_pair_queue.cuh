@@ -1,5 +1,5 @@
 #pragma once
-// A warp's queue of neighbour pairs (the force loop's compacted form, cuda_kernels.cu): the
+// A warp's queue of neighbour pairs (the force loop's compacted form, cuda_cell_forces.cu): the
 // lanes test candidates of their own particles, push the pairs inside the support, and every
 // 32 queued pairs the warp evaluates the pair body with all 32 lanes busy, one pair each,
 // whichever particle the pairs belong to. Each particle's terms then go back to its own lane,
@@ -16,11 +16,10 @@
 // range it came from: the drain forms the separation from them as the test did.
 #include <cstdint>
 
+#include "backend/cuda_launch.cuh"
 #include "physics/interaction.hpp"
 
 namespace sph::gpu {
-
-constexpr unsigned full_warp = 0xffffffffu;
 
 struct PairQueueStorage {
     static constexpr unsigned capacity = 64;
