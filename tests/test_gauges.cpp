@@ -7,8 +7,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "case_file.hpp"
+#include "commands.hpp"
+#include "experiment_spec.hpp"
+#include "sphbench_driver.hpp"
 #include "core/smoothing_kernels.hpp"
 #include "simulation.hpp"
 
@@ -181,6 +185,104 @@ TEST(Gauges, GaugesThatDoNotFitTheSceneAreRefusedNamingThem) {
     EXPECT_EQ(refusal(gauge(GaugeKind::water_level, "level", 0.1, 0.05, 99)), "");  // z is not read
     EXPECT_THROW(gauge_kind("swl"), InputError);
     EXPECT_EQ(gauge_kind("water_level"), GaugeKind::water_level);
+}
+
+}  // namespace
+}  // namespace sph
+
+namespace sph {
+namespace {
+
+std::vector<std::string> csv_lines(const std::filesystem::path& path) {
+    std::vector<std::string> lines;
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty() && line[0] != '#') lines.push_back(line);
+    return lines;
+}
+
+TEST(GaugesCli, SimulateWritesGaugesEveryIntervalOfSimulatedTime) {
+    namespace fs = std::filesystem;
+    const fs::path out = fs::temp_directory_path() / "sph_gauges_cli";
+    fs::remove_all(out);
+    std::string message;
+    ASSERT_EQ(test::sphbench({"simulate", "tank", "--set", "dp=0.04", "--backend", "host", "--steps", "60", "--warmup",
+                              "0", "--quiet", "--out", out.string(), "--gauge", "water_level:x=0.2,y=0.1,every=0.002",
+                              "--gauge", "force:body=tank,every=0.004,name=tank"},
+                             message),
+              exit_ok)
+        << message;
+    const std::vector<std::string> lines = csv_lines(out / "tank_gauges.csv");
+    ASSERT_GE(lines.size(), 3u);
+    EXPECT_EQ(lines[0], "time,water_level1,tank_x,tank_y,tank_z");
+    // Rows at t = 0 and then whenever a gauge came due; the force every other row.
+    double previous = -1;
+    int with_force = 0;
+    for (std::size_t k = 1; k < lines.size(); ++k) {
+        const double t = std::stod(lines[k]);
+        if (k > 1) {
+            EXPECT_NEAR(t - previous, 0.002, 0.001) << lines[k];
+        }
+        previous = t;
+        with_force += lines[k].find(",,") == std::string::npos;
+    }
+    EXPECT_EQ(with_force, int(lines.size() - 1 + 1) / 2);
+    std::ifstream raw(out / "tank_gauges.csv");
+    std::string text((std::istreambuf_iterator<char>(raw)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("# gauge.tank: force body=tank every=0.004"), std::string::npos);
+    EXPECT_NE(text.find("# git_commit: "), std::string::npos);
+    fs::remove_all(out);
+}
+
+TEST(GaugesCli, BadGaugesExit2BeforeAnyStep) {
+    namespace fs = std::filesystem;
+    const fs::path out = fs::temp_directory_path() / "sph_gauges_bad";
+    fs::remove_all(out);
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"swl:x=0.2,y=0.1,every=0.01", "unknown gauge kind 'swl'"},
+        {"water_level:x=0.2,y=0.1,z=0.3,every=0.01", "unknown key 'z' for a water_level gauge"},
+        {"pressure:x=0.2,y=0.1,every=0.01", "a pressure gauge needs 'z'"},
+        {"pressure:x=0.2,y=0.1,z=7,every=0.01", "gauge 'pressure1' (pressure): z = 7 lies outside the domain"},
+        {"force:body=lid,every=0.01", "scene 'tank' has no body 'lid'"},
+        {"water_level:x=0.2,y=0.1", "needs 'every'"},
+        {"max_height:x=0.2,y=0.1,radius=0,every=0.1", "'radius' must be above 0"}};
+    for (const auto& [gauge_text, expected] : bad) {
+        std::string message;
+        EXPECT_EQ(test::sphbench({"simulate", "tank", "--set", "dp=0.04", "--backend", "host", "--steps", "5", "--quiet",
+                                  "--out", out.string(), "--gauge", gauge_text},
+                                 message),
+                  exit_usage)
+            << gauge_text;
+        EXPECT_NE(message.find(expected), std::string::npos) << message;
+        EXPECT_FALSE(fs::exists(out / "tank_steps.csv")) << "a step was taken for " << gauge_text;
+    }
+    fs::remove_all(out);
+}
+
+TEST(GaugesSpec, GaugeTablesAreReadStrictly) {
+    namespace fs = std::filesystem;
+    const fs::path file = fs::temp_directory_path() / "sph_gauges_spec.toml";
+    const std::string head = "name = \"g\"\nreproduces = \"gauges\"\nsteps = 5\n[[runs]]\nscene = \"tank\"\n";
+    std::ofstream(file) << head
+                        << "[[gauges]]\nkind = \"water_level\"\nname = \"wg1\"\nx = 0.2\ny = 0.1\nevery = 0.01\n"
+                           "[[gauges]]\nkind = \"force\"\nbody = \"tank\"\nevery = 1\n";
+    const ExperimentSpec spec = load_spec(file.string());
+    ASSERT_EQ(spec.gauges.size(), 2u);
+    EXPECT_EQ(spec.gauges[0].name, "wg1");
+    EXPECT_EQ(spec.gauges[0].kind, GaugeKind::water_level);
+    EXPECT_EQ(spec.gauges[0].x, 0.2);
+    EXPECT_EQ(spec.gauges[1].name, "force1");
+    EXPECT_EQ(spec.gauges[1].every, 1.0);
+    std::ofstream(file) << head << "[[gauges]]\nkind = \"velocity\"\nx = 0.2\ny = 0.1\nz = 0.1\nradius = 2\nevery = 0.01\n";
+    try {
+        load_spec(file.string());
+        ADD_FAILURE() << "a velocity gauge with a radius was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(":6: [[gauges]] 1: unknown key 'radius' for a velocity gauge"),
+                  std::string::npos)
+            << e.what();
+    }
+    fs::remove(file);
 }
 
 }  // namespace
