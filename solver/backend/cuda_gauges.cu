@@ -43,7 +43,7 @@ __global__ void __launch_bounds__(gauge_block) body_force_kernel(GaugeInputs in,
     const std::uint32_t i = blockIdx.x * gauge_block + threadIdx.x;
     if (i >= n) return;
     real3 f = make3(0, 0, 0);
-    if (i >= in.owned_begin() && i < in.owned_end()) f = body_particle_force(i, probe, in, p, Kernel(p.h));
+    if (i >= in.owned_begin() && i < in.owned_end()) f = fluid_force_on_body(i, probe, in, p, Kernel(p.h));
     per_particle[i] = make4(f, 0);
 }
 

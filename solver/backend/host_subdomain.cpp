@@ -254,7 +254,7 @@ public:
                     std::vector<real3> per(std::size_t(n - lo));
 #pragma omp parallel for schedule(static)
                     for (std::ptrdiff_t i = lo; i < n; ++i)
-                        per[std::size_t(i - lo)] = body_particle_force(std::uint32_t(i), probe, in, p, kernel);
+                        per[std::size_t(i - lo)] = fluid_force_on_body(std::uint32_t(i), probe, in, p, kernel);
                     for (const real3& f : per) {
                         total.v[0] += double(f.x);
                         total.v[1] += double(f.y);

@@ -11,7 +11,7 @@
 //   velocity    sum_j v_j V_j W / sum_j V_j W        V_j = m / rho_j, over fluid j)
 //   water_level sum_j m W at one point of the vertical line (the Simulation samples the line)
 //   max_height  the highest fluid particle within a horizontal radius of the line
-//   force       sum over the body's particles i of the fluid's force on i (see body_particle_force)
+//   force       the fluid's force on a body's particles (see fluid_force_on_body)
 // Particles move after the sort that built the cell ranges (up to one cell between sorts:
 // a step, or a Verlet list's half skin, is less than a cell), so the stencil reaches one cell
 // further than the support and every separation is taken from the particle's own cell.
@@ -179,38 +179,39 @@ SPH_HD GaugeSum probe_cell_sum(const GaugeProbe& probe, const GaugeInputs& in, c
     return s;
 }
 
-// The fluid's force on boundary particle i (zero unless i is a particle of the probe's body).
-// Dynamic boundary particles gather only a density rate in the force loop (their momentum is
-// not computed), so the force is summed here from the pair terms the force loop applies to a
-// fluid neighbour j: with a_j(i) = j's acceleration from i (pressure, artificial and laminar
-// viscosity: PairBody), the force on i is -m a_j(i) (the pair terms are antisymmetric).
-// Neighbours j are every fluid particle held, ghosts included.
+// The force fluid particle j exerts on the probe's body (zero unless j is fluid). Dynamic
+// boundary particles gather only a density rate in the force loop (their momentum is not
+// computed), so the force is summed here from the pair terms the force loop applies to j:
+// with a_j(i) = j's acceleration from body particle i (pressure, artificial and laminar
+// viscosity: PairBody), the force on i is -m a_j(i) (the pair terms are antisymmetric). Summed
+// over the OWNED fluid particles j, so that the fluid side of every pair is current; a body
+// particle held as another subdomain's ghost has its density from the last exchange.
 template <class Kernel>
-SPH_HD real3 body_particle_force(std::uint32_t i, const GaugeProbe& probe, const GaugeInputs& in,
+SPH_HD real3 fluid_force_on_body(std::uint32_t j, const GaugeProbe& probe, const GaugeInputs& in,
                                  const PhysicsParams& p, const Kernel& kernel) {
     const ForceInputs& f = in.particles;
     const GridView& g = f.grid;
-    const std::uint32_t id = f.cell[i] < g.out_of_domain() ? (in.id[i] & ~ghost_id_flag) : 0xffffffffu;
     real3 total = make3(0, 0, 0);
-    if (id < probe.body_first || id >= probe.body_end || !is_boundary(f.velrho[i])) return total;
+    if (f.cell[j] >= g.out_of_domain() || is_boundary(f.velrho[j])) return total;
     const PairBody<Kernel, false> body(f, p, kernel);
-    const real4 vr_i = f.velrho[i];
-    const real3 oi = xyz(f.pos[i]);
-    const int3v ci = g.decode(f.cell[i]);
+    const ParticleSide side_j = particle_side(f, j);
+    const real3 oj = xyz(side_j.pos);
+    const int3v cj = g.decode(f.cell[j]);
     const real3 cs = g.cell_size;
     const int reach[3] = {gauge_reach(p.support, cs.x), gauge_reach(p.support, cs.y), gauge_reach(p.support, cs.z)};
-    const GaugeStencil st = gauge_stencil(g, ci, reach);
+    const GaugeStencil st = gauge_stencil(g, cj, reach);
     const real near2 = real(1e-18) * p.support2;
     for (std::uint32_t k = 0; k < st.cells(); ++k) {
         const std::uint32_t c = st.cell(g, k);
-        for (std::uint32_t j = f.cell_start[c]; j < f.cell_start[c + 1]; ++j) {
-            const real4 vr_j = f.velrho[j];
-            if (is_boundary(vr_j) || f.cell[j] >= g.out_of_domain()) continue;
-            const real3 rji = cell_frame_separation(g.decode(f.cell[j]), xyz(f.pos[j]), ci, oi, g);  // x_j - x_i
+        for (std::uint32_t i = f.cell_start[c]; i < f.cell_start[c + 1]; ++i) {
+            const real4 vr_i = f.velrho[i];
+            if (!is_boundary(vr_i) || f.cell[i] >= g.out_of_domain()) continue;
+            const std::uint32_t id = in.id[i] & ~ghost_id_flag;
+            if (id < probe.body_first || id >= probe.body_end) continue;
+            const real3 rji = cell_frame_separation(cj, oj, g.decode(f.cell[i]), xyz(f.pos[i]), g);  // x_j - x_i
             const real r2 = dot(rji, rji);
             if (r2 >= p.support2 || r2 <= near2) continue;
-            const PairTerms t = body.terms(particle_side(f, j), i, vr_i, rji, r2);
-            total -= p.mass * t.acc;
+            total -= p.mass * body.terms(side_j, i, vr_i, rji, r2).acc;
         }
     }
     return total;
