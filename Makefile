@@ -1,7 +1,7 @@
 # The front door. `make test` sets up, builds and runs the tests; `make fig4` (fig3 ... fig9,
 # table-vl) runs an experiment spec and draws its figure. Without a GPU the figure targets run on the
 # host backend at a reduced scale, and say so. `make reference` (on a GPU machine) regenerates every
-# committed GPU result, resumably; `make claims` writes the README's claims table from them.
+# committed GPU result, resumably; `make claims` writes the claims table of docs/results.md from them.
 BUILD ?= build
 JOBS ?= 2
 CMAKE_ARGS ?=
@@ -10,7 +10,7 @@ SPHBENCH := $(BUILD)/harness/sphbench
 BUILD_F64 ?= build-f64
 PYTHON ?= python3
 
-.PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl \
+.PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl whole-run \
         transports table-vl perf-check perf-accept stability skip-bench accuracy reference reference-figures claims clean
 
 all: build
@@ -36,6 +36,11 @@ fig3 fig4: fig%: build
 multi-gpu cll-vs-vl: build
 	$(SPHBENCH) run experiments/$@.toml
 
+# Issue 25: whole events from rest (dam break 1.04M to 1 s, 4.04M to 0.3 s, armadillo 2980K
+# over 1000 steps), seconds per simulated second and the lists' rebuilds, in results/whole-run/runs.csv.
+whole-run: build
+	$(SPHBENCH) run experiments/whole-run.toml
+
 fig5 fig6 fig7 fig8 fig9: fig%: multi-gpu
 	$(PYTHON) plots/fig$*.py
 
@@ -60,12 +65,12 @@ build-float64: deps
 	@cmake -S . -B $(BUILD_F64) -DCMAKE_BUILD_TYPE=Release -DSPH_DOUBLE=ON -DSPH_BUILD_TESTS=OFF $(CMAKE_ARGS) >/dev/null
 	@cmake --build $(BUILD_F64) -j$(JOBS) --target sphbench
 
-# Issue 6: validation error against run time; float64 runs are handed to the float64 build.
+# Validation error against run time; float64 runs are handed to the float64 build.
 accuracy: build build-float64
 	$(SPHBENCH) run experiments/accuracy.toml --float64-binary $(BUILD_F64)/harness/sphbench
 	$(PYTHON) plots/accuracy.py
 
-# What CI can hold without a GPU (README, "What CI holds"): the work counters of a small suite,
+# What CI can hold without a GPU (docs/perf-check.md): the work counters of a small suite,
 # exactly; instructions the host backend executes on fixed scenes (callgrind); and each CUDA
 # kernel's registers, spills, shared memory and SASS, read from $(BUILD)'s CUDA objects
 # (skipped, and said so, in a build without nvcc). `make perf-accept` rewrites the last two
@@ -94,8 +99,8 @@ stability: build
 skip-bench: build
 	$(BUILD)/bench/sph_skip_bench --benchmark_out=results/skip_bench.json --benchmark_out_format=json
 
-# Every GPU reference result the GPUs present allow, into results/reference/<gpu>[-xN]/ (README,
-# "Regenerating the reference results"): prints its plan and estimate, skips what is up to date,
+# Every GPU reference result the GPUs present allow, into results/reference/<gpu>[-xN]/ (docs/gpu-machines.md):
+# prints its plan and estimate, skips what is up to date,
 # resumes where the last call stopped. REFERENCE_BUDGET_S=500 starts nothing that would not fit;
 # PLAN=1 prints the plan only (also without a GPU); REFERENCE_ONLY="fig3 fig4" picks items.
 # With a packed build (.carry/, tools/gpu-run.sh pack) it runs those binaries and builds nothing.
@@ -109,10 +114,10 @@ reference: $(REFERENCE_PREREQS)
 reference-figures:
 	$(PYTHON) tools/reference.py --figures-only
 
-# The README's claims table, from the committed results (experiments/claims.toml); `make test`
-# fails when the README's table differs from what this writes.
+# The claims table of docs/results.md, from the committed results (plots/claims.toml); `make test`
+# fails when that table differs from what this writes.
 claims:
-	$(PYTHON) plots/claims.py --write-readme
+	$(PYTHON) plots/claims.py --write
 
 clean:
 	rm -rf $(BUILD) $(BUILD_F64)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A model of the GPU force loop's divergence (bench/FORCE_LOOP_NOTES.md, change 6).
+"""A model of the GPU force loop's divergence (docs/force-loop-notes.md, change 6).
 
 Counts, per warp of 32 consecutive particles in (cell, id) order, how often the warp runs the
 pair body when its lanes walk their stencil candidate by candidate (once per candidate that any

@@ -25,5 +25,6 @@ constexpr int exit_ok = 0;
 constexpr int exit_regression = 1;
 constexpr int exit_usage = 2;
 constexpr int exit_run_failed = 3;
+// 4, exit_inconclusive (regression_compare.hpp): `compare` could not tell, and said what to do.
 
 }  // namespace sph

@@ -1,12 +1,13 @@
 // sphbench compare BASELINE CANDIDATE: a verdict per run and metric, as a table and JSON;
 // the exit code is what CI acts on (0 fine, 1 regression, 2 usage or setup error, 3 nothing
-// comparable).
+// comparable, 4 inconclusive).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "commands.hpp"
+#include "comparison_report.hpp"
 #include "core/error.hpp"
 #include "experiment_runner.hpp"
 #include "io/atomic_file.hpp"
@@ -18,7 +19,7 @@ namespace {
 
 struct CompareArgs {
     std::string baseline, candidate, json, metrics = "update_ms,step_ms";
-    double threshold = 0.05, alpha = 0.01;
+    double threshold = 0.05, alpha = 0.01, noise_ratio = 3;
 };
 
 std::vector<std::string> parse_metrics(const std::string& list) {
@@ -37,46 +38,6 @@ std::vector<std::string> parse_metrics(const std::string& list) {
         out.push_back(m);
     }
     return out;
-}
-
-std::string value_text(const MetricComparison& r, bool candidate) {
-    if (r.counter) return candidate ? r.candidate_text : r.baseline_text;
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4g", candidate ? r.candidate : r.baseline);
-    return buf;
-}
-
-std::string change_text(const MetricComparison& r) {
-    if (!std::isfinite(r.change)) return r.change > 0 ? "+inf" : "-inf";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%+.1f%%", 100 * r.change);
-    return buf;
-}
-
-std::string p_text(const MetricComparison& r) {
-    if (r.p < 0) return "-";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.2g", r.p);
-    return buf;
-}
-
-void print_table(const Comparison& c) {
-    std::vector<std::vector<std::string>> rows = {{"run", "metric", "baseline", "candidate", "change", "p", "verdict"}};
-    for (const auto& r : c.rows)
-        rows.push_back({r.run, r.metric, value_text(r, false), value_text(r, true), change_text(r), p_text(r),
-                        verdict_name(r.verdict)});
-    std::vector<std::size_t> width(rows.front().size(), 0);
-    for (const auto& row : rows)
-        for (std::size_t i = 0; i < row.size(); ++i) width[i] = std::max(width[i], row[i].size());
-    for (const auto& row : rows) {
-        std::string line;
-        for (std::size_t i = 0; i < row.size(); ++i) {
-            const bool numeric = i >= 2 && i <= 5;  // right-aligned
-            const std::string pad(width[i] - row[i].size(), ' ');
-            line += (i ? "  " : "") + (numeric ? pad + row[i] : row[i] + (i + 1 < row.size() ? pad : ""));
-        }
-        std::printf("%s\n", line.c_str());
-    }
 }
 
 std::string json_string(const std::string& s) {
@@ -102,18 +63,30 @@ void write_json(const std::string& path, const CompareArgs& a, const Comparison&
     std::ostringstream j;
     j << "{\n  \"baseline\": " << json_string(a.baseline) << ",\n  \"candidate\": " << json_string(a.candidate)
       << ",\n  \"threshold\": " << json_number(a.threshold) << ",\n  \"alpha\": " << json_number(a.alpha)
-      << ",\n  \"comparisons\": [";
+      << ",\n  \"noise_ratio\": " << json_number(a.noise_ratio) << ",\n  \"comparisons\": [";
     for (std::size_t i = 0; i < c.rows.size(); ++i) {
         const auto& r = c.rows[i];
         j << (i ? "," : "") << "\n    {\"run\": " << json_string(r.run) << ", \"metric\": " << json_string(r.metric)
           << ", \"kind\": " << (r.counter ? "\"counter\"" : "\"time\"") << ", \"baseline\": " << json_number(r.baseline)
           << ", \"candidate\": " << json_number(r.candidate) << ", \"change\": " << json_number(r.change)
           << ", \"p\": " << (r.p < 0 ? "null" : json_number(r.p)) << ", \"n_baseline\": " << r.n_baseline
-          << ", \"n_candidate\": " << r.n_candidate << ", \"verdict\": " << json_string(verdict_name(r.verdict)) << "}";
+          << ", \"n_candidate\": " << r.n_candidate;
+        if (!r.counter) {
+            const Disturbance& d = r.disturbance;
+            j << ", \"spread_baseline\": " << (d.spread_baseline < 0 ? "null" : json_number(d.spread_baseline))
+              << ", \"spread_candidate\": " << (d.spread_candidate < 0 ? "null" : json_number(d.spread_candidate))
+              << ", \"scatter_baseline\": " << (d.scatter_baseline < 0 ? "null" : json_number(d.scatter_baseline))
+              << ", \"scatter_candidate\": " << (d.scatter_candidate < 0 ? "null" : json_number(d.scatter_candidate))
+              << ", \"disturbed\": " << (d.found ? "true" : "false")
+              << ", \"disturbance\": " << (d.found ? json_string(d.why) : "null");
+        }
+        j << ", \"verdict\": " << json_string(verdict_name(r.verdict)) << "}";
     }
     j << "\n  ],\n  \"only_in_baseline\": " << json_names(c.only_in_baseline)
       << ",\n  \"only_in_candidate\": " << json_names(c.only_in_candidate)
       << ",\n  \"regressed\": " << (c.regressed() ? "true" : "false")
+      << ",\n  \"inconclusive\": " << (c.inconclusive() ? "true" : "false")
+      << ",\n  \"verdict\": " << json_string(overall_verdict(c))
       << ",\n  \"exit_code\": " << comparison_exit_code(c) << "\n}\n";
     AtomicFile out(path);
     out.stream() << j.str();
@@ -124,23 +97,12 @@ void compare(const CompareArgs& a, CommandContext& ctx) {
     CompareOptions options;
     options.threshold = a.threshold;
     options.alpha = a.alpha;
+    options.noise_ratio = a.noise_ratio;
     options.time_metrics = parse_metrics(a.metrics);
     const ResultSet baseline = load_results(a.baseline);
     const ResultSet candidate = load_results(a.candidate);
     const Comparison c = compare_results(baseline, candidate, options);
-    if (c.comparable()) print_table(c);
-    for (const auto& id : c.only_in_baseline) std::printf("only in the baseline: %s\n", id.c_str());
-    for (const auto& id : c.only_in_candidate) std::printf("only in the candidate: %s\n", id.c_str());
-    std::map<std::string, int> tally;
-    for (const auto& r : c.rows) ++tally[verdict_name(r.verdict)];
-    std::string counts;
-    for (const auto& [name, n] : tally) counts += (counts.empty() ? "" : ", ") + std::to_string(n) + " " + name;
-    if (!c.comparable())
-        std::printf("nothing comparable: no run and metric is present in both %s and %s\n", a.baseline.c_str(),
-                    a.candidate.c_str());
-    else
-        std::printf("%s: %s (threshold %g%%, alpha %g)\n", c.regressed() ? "REGRESSION" : "no regression",
-                    counts.c_str(), 100 * a.threshold, a.alpha);
+    print_comparison(c, options, a.baseline, a.candidate);
     if (!a.json.empty()) write_json(a.json, a, c);
     ctx.exit_code = comparison_exit_code(c);
 }
@@ -150,9 +112,15 @@ void compare(const CompareArgs& a, CommandContext& ctx) {
 void add_compare_command(CLI::App& app, CommandContext& ctx) {
     auto a = std::make_shared<CompareArgs>();
     CLI::App* cmd = app.add_subcommand(
-        "compare", "compare two result sets run by run: SAME, FASTER, SLOWER or AMBIGUOUS per time metric (median "
-                   "change and a Mann-Whitney rank test), counters exactly. Exit 0: no regression, 1: regression, "
-                   "2: usage or setup error, 3: nothing comparable");
+        "compare", "compare two result sets run by run: SAME, FASTER, SLOWER, AMBIGUOUS (a change beyond the threshold "
+                   "that the Mann-Whitney rank test cannot confirm, or too few samples) or NOISY (a disturbed machine: "
+                   "the candidate far noisier than the baseline, its repetitions split in two groups, or one side's "
+                   "repetitions disagreeing by the threshold or more) per time metric, counters exactly (COUNTER "
+                   "CHANGED).\nExit codes:\n  0  no regression, every verdict known (SAME or FASTER; changes within "
+                   "the threshold are SAME)\n  1  a regression: SLOWER or COUNTER CHANGED (wins over 4)\n  2  usage or "
+                   "setup error (one sentence names the file, key or value)\n  3  nothing comparable\n  4  "
+                   "inconclusive: some row AMBIGUOUS or NOISY and none a regression; rerun with more repetitions on a "
+                   "quiet machine");
     cmd->add_option("baseline", a->baseline,
                     "result folder (with runs.csv), a runs.csv, or Google Benchmark JSON (--benchmark_format=json)")
         ->required();
@@ -162,6 +130,12 @@ void add_compare_command(CLI::App& app, CommandContext& ctx) {
         ->capture_default_str();
     cmd->add_option("--alpha", a->alpha, "significance level of the rank test")
         ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    cmd->add_option("--noise-ratio", a->noise_ratio,
+                    "NOISY where the candidate's interquartile range (relative to its median) is this many times the "
+                    "baseline's, a split of its repetitions this many times the baseline's scatter, or one side's "
+                    "repetitions scatter by 1/this of the change (each also at least the threshold)")
+        ->check(CLI::Range(1.0, 1000.0))
         ->capture_default_str();
     cmd->add_option("--metrics", a->metrics,
                     "comma-separated time metrics (update_ms, step_ms, <phase>_ms, real_time); \"counters\" alone "

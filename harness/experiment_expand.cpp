@@ -61,6 +61,8 @@ std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& 
     // overridden is no longer swept.
     SettingMap solver_over, scene_over;
     long steps = spec.steps, warmup = spec.warmup, repetitions = spec.repetitions;
+    double end_time = spec.end_time;
+    bool end_time_overridden = false;
     bool steps_overridden = false;
     std::set<std::string> overridden;
     for (const auto& [key, value] : options.overrides) {
@@ -68,12 +70,13 @@ std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& 
         else if (key.rfind("set.", 0) == 0 && key.size() > 4) scene_over[key.substr(4)] = value;
         else if (key == "steps") steps = parse_count(key, value), steps_overridden = true;
         else if (key == "warmup") warmup = parse_count(key, value);
+        else if (key == "end_time") end_time = check_run_number(key, value, "--set " + key), end_time_overridden = true;
         else if (key == "repetitions") repetitions = parse_count(key, value);
         else {
             std::string known;
             for (const auto& k : solver_setting_keys()) known += k + ", ";
             throw InputError("--set names an unknown key '" + key + "' (known: " + known +
-                             "steps, warmup, repetitions, set.<scene option>)");
+                             "steps, end_time, warmup, repetitions, set.<scene option>)");
         }
         overridden.insert(key);
     }
@@ -104,19 +107,33 @@ std::vector<PlannedRun> expand(const ExperimentSpec& spec, const ExpandOptions& 
             base.scene = run.scene;
             base.solver_settings = complete_solver_settings(solver);
             base.solver = to_solver_options(base.solver_settings, options.gpu_available);
-            base.steps = steps;
+            // A run's own steps and end time replace the spec's; --set replaces both.
+            const long run_steps = run.steps && !steps_overridden ? *run.steps : steps;
+            const double run_end_time = run.end_time && !end_time_overridden ? *run.end_time : end_time;
+            base.steps = run_steps;
             base.warmup = warmup;
             base.snapshot_every = spec.snapshot_every;
             base.record_blow_up = spec.record_blow_ups;
             if (run.validation) base.validation = *run.validation;
             else if (spec.validation) base.validation = *spec.validation;
+            // The run's end time: the spec's or --set's, else its validation's. Validation
+            // then records the end time the run has.
+            const double asked_end_time = run_end_time > 0 ? run_end_time : base.validation.end_time;
+            base.end_time = asked_end_time;
+            if (base.validation.enabled()) base.validation.end_time = base.end_time;
             base.scale = options.scale;
             const bool on_host = base.solver.backend == BackendKind::host;
             if (on_host && spec.host) {
                 base.scale *= spec.host->scale;
                 if (spec.host->steps > 0 && !steps_overridden) base.steps = spec.host->steps;
+                if (spec.host->end_time > 0 && !end_time_overridden && base.end_time > 0) {
+                    base.end_time = spec.host->end_time;
+                    if (base.validation.enabled()) base.validation.end_time = base.end_time;
+                }
             }
-            base.reduced_scale = base.scale != 1.0 || base.steps != steps;
+            base.reduced_scale = base.scale != 1.0 || base.steps != run_steps || base.end_time != asked_end_time;
+            if (base.steps == 0 && base.end_time <= 0)
+                throw InputError(spec.path + ": run '" + config + "' has neither 'steps' nor 'end_time'; give one");
             apply_scale(scene, base.scale);
             base.scene_options = scene;
 

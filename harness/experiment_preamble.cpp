@@ -12,6 +12,15 @@
 
 namespace sph {
 
+void add_end_time_option(CLI::App& cmd, ExperimentArgs& args, const std::string& help) {
+    const RunSetting& s = run_setting("end_time");
+    cmd.add_option_function<std::string>(
+           setting_flag(s), [&args](const std::string& t) { args.settings.push_back("end_time=" + t); },
+           help + "; the same as --set end_time=T")
+        ->check(in_range(s.range))
+        ->type_name("FLOAT");
+}
+
 Experiment load_experiment(const ExperimentArgs& a, ExperimentKind kind) {
     Experiment e;
     e.spec = load_spec(a.spec);
@@ -62,8 +71,10 @@ std::string overrides_text(const ExperimentArgs& a) {
 
 Metadata experiment_metadata(const Experiment& e, const ExperimentArgs& a, const CommandContext& ctx) {
     const ExperimentSpec& spec = e.spec;
+    std::vector<ImplementationVariants> variants;
+    for (const PlannedRun& r : e.runs) variants.push_back(r.solver.variants);
     Metadata meta = provenance(e.backend, e.backend == "host" ? "host" : cuda_device_summary(),
-                               command_line_of(ctx.argc, ctx.argv));
+                               describe_implementation_variants(variants), command_line_of(ctx.argc, ctx.argv));
     for (auto& kv : Metadata{{"experiment", spec.name},
                              {"reproduces", spec.reproduces},
                              {"spec", spec.path},

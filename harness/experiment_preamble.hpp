@@ -33,6 +33,10 @@ struct Experiment {
     std::string backend;           // "cuda", "host" or "mixed"
 };
 
+// `--end-time T` on `run` and `stability`: the same as `--set end_time=T` (checked as the spec
+// key is), so that it travels with the other overrides.
+void add_end_time_option(CLI::App& cmd, ExperimentArgs& args, const std::string& help);
+
 // Throws InputError, before any work starts, for a bad spec, an output folder that cannot be
 // one, a spec of the other kind, a bad override or an --only naming no run.
 Experiment load_experiment(const ExperimentArgs& args, ExperimentKind kind);

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "csv_table.hpp"
 #include "io/csv_writer.hpp"
 #include "multi/rank_group.hpp"
 #include "statistics.hpp"
@@ -81,9 +82,28 @@ ColumnTable<RunsRow> runs_table(const std::vector<PlannedRun>& runs) {
         .add("particles", [whole](R r) { return whole(r.result.particles); })
         .add("fluid", [whole](R r) { return whole(r.result.fluid); })
         .add("boundary", [whole](R r) { return whole(r.result.boundary); })
-        .add("dp", [](R r) { return format_number(r.result.dp); })
-        .add("steps", [whole](R r) { return whole(r.run.steps); })
-        .add("warmup", [whole](R r) { return whole(r.run.warmup); });
+        .add("dp", [](R r) { return format_number(r.result.dp); });
+    // The whole run, from t = 0 and warm-up included: what a user waits for (issue 25). Empty
+    // where a figure does not apply (no end time; no Verlet lists).
+    const auto verlet_only = [](auto cell) {
+        return [cell](R r) { return r.run.solver.search.verlet ? cell(r) : std::string(); };
+    };
+    t.add("end_time", [](R r) { return r.run.end_time > 0 ? format_number(r.run.end_time) : std::string(); })
+        .add("steps", [whole](R r) { return whole(r.result.steps_taken); })
+        .add("warmup", [whole](R r) { return whole(r.run.warmup); })
+        .add("window_steps", [whole](R r) { return whole(r.result.steps.size()); })
+        .add("stopped_by", [](R r) { return r.result.stopped_by; })
+        .add("sim_time", [](R r) { return format_number(r.result.sim_time); })
+        .add("wall_s", [](R r) { return format_number(r.result.wall_seconds); })
+        .add("s_per_sim_s",
+             [](R r) { return r.result.sim_time > 0 ? format_number(r.result.seconds_per_sim_second()) : std::string(); })
+        .add("list_rebuilds", verlet_only([whole](R r) { return whole(r.result.cost.rebuild_steps); }))
+        .add("rebuild_step_ms", verlet_only([](R r) { return format_number(r.result.cost.rebuild_step_ms()); }))
+        .add("listed_step_ms", verlet_only([](R r) { return format_number(r.result.cost.listed_step_ms()); }))
+        .add("list_bytes_per_particle", verlet_only([](R r) {
+                 return r.result.particles ? format_number(double(r.result.list_bytes) / double(r.result.particles))
+                                           : std::string();
+             }));
     auto text_of = [](const std::map<std::string, std::string>& m, const std::string& key) {
         const auto it = m.find(key);
         return it == m.end() ? std::string() : it->second;
@@ -116,8 +136,6 @@ ColumnTable<RunsRow> runs_table(const std::vector<PlannedRun>& runs) {
         .add("candidates_per_step", [](R r) { return per_step(r.result.work.candidates, r.result.work.samples); })
         .add("neighbours_per_step", [](R r) { return per_step(r.result.work.neighbours, r.result.work.samples); })
         .add("ranges_per_step", [](R r) { return per_step(r.result.work.ranges, r.result.work.samples); })
-        .add("sim_time", [](R r) { return r.result.steps.empty() ? "0" : format_number(r.result.steps.back().time); })
-        .add("wall_s", [](R r) { return format_number(r.result.wall_seconds); })
         .add("steps_file", [](R r) { return r.steps_file; });
     if (std::any_of(runs.begin(), runs.end(), [](const PlannedRun& r) { return r.record_blow_up; }))
         t.add("blow_up", [](R r) { return r.result.blow_up; });
@@ -154,6 +172,12 @@ ColumnTable<RunsRow> runs_table(const std::vector<PlannedRun>& runs) {
 
 std::vector<std::string> runs_csv_columns(const std::vector<PlannedRun>& runs) { return runs_table(runs).names(); }
 
+const char* runs_columns_note() {
+    return "steps, sim_time, wall_s, s_per_sim_s, list_rebuilds, rebuild_step_ms and listed_step_ms cover the whole run "
+           "from t = 0, warm-up included (the two step times are means of the steps' wall clocks); the <metric>_median, "
+           "_q1, _q3 and _min columns summarise only the window of window_steps steps after the warm-up";
+}
+
 SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run) {
     SceneRunRequest req;
     req.scene = run.scene;
@@ -161,6 +185,7 @@ SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run)
     req.solver = run.solver;
     req.steps = run.steps;
     req.warmup = run.warmup;
+    req.end_time = run.end_time;
     req.snapshot_every = spec.records("snapshots") ? run.snapshot_every : 0;
     req.count_work_every = spec.records("counters-every-step") ? 1 : 0;
     req.write_step_csv = spec.records("steps");
@@ -170,6 +195,53 @@ SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run)
     req.gauges = spec.gauges;
     return req;
 }
+
+namespace {
+
+// Runs one planned run into `dir` and gives its row of runs.csv; appends the files it wrote.
+std::vector<std::string> run_one(const ExperimentSpec& spec, const PlannedRun& run, const ColumnTable<RunsRow>& table,
+                                 const std::string& dir, const ExperimentRunOptions& options, std::size_t i,
+                                 std::size_t count, std::vector<std::string>& files) {
+    SceneRunRequest req = scene_request(spec, run);
+    req.out_dir = dir;
+    req.progress = !options.quiet;
+    req.metadata = options.metadata;
+    req.metadata.emplace_back("run_id", run.run_id);
+    SceneRunResult result;
+    try {
+        result = run_scene(req);
+    } catch (const InputError& e) {
+        throw InputError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
+    } catch (const RunError& e) {
+        throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
+    }
+    std::string steps_file;
+    for (const auto& f : result.files) {
+        files.push_back(f);
+        if (f.size() >= 10 && f.compare(f.size() - 10, 10, "_steps.csv") == 0) steps_file = fs::path(f).filename().string();
+    }
+    std::vector<std::string> row = table.cells(RunsRow(run, result, steps_file));
+    if (!options.quiet) {
+        const Summary update = summarize(metric_series(result, "update_ms"));
+        const Summary step = summarize(metric_series(result, "step_ms"));
+        std::printf("[%zu/%zu] %s: %zu particles on %s, %ld steps to t = %.4g s (stopped by %s), %.1f s, %.4g s per "
+                    "simulated second; window of %zu steps: update %.3f ms, step %.3f ms (medians)\n",
+                    i + 1, count, run.run_id.c_str(), result.particles, result.device.c_str(), result.steps_taken,
+                    result.sim_time, result.stopped_by.c_str(), result.wall_seconds, result.seconds_per_sim_second(),
+                    result.steps.size(), update.median, step.median);
+        if (run.solver.search.verlet)
+            std::printf("    Verlet lists: %ld rebuilds in %ld steps; rebuild step %.3f ms, listed step %.3f ms (means; "
+                        "nan: no such step)\n",
+                        result.cost.rebuild_steps, result.cost.steps, result.cost.rebuild_step_ms(),
+                        result.cost.listed_step_ms());
+        if (!result.blow_up.empty()) std::printf("    recorded, not fatal: %s\n", result.blow_up.c_str());
+        for (const auto& [k, v] : result.validation_summary) std::printf("    %s = %.4g\n", k.c_str(), v);
+        std::fflush(stdout);
+    }
+    return row;
+}
+
+}  // namespace
 
 ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs,
                                  const ExperimentRunOptions& options) {
@@ -190,36 +262,7 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
             rows.emplace_back();  // filled in below, by the other build
             continue;
         }
-        SceneRunRequest req = scene_request(spec, run);
-        req.out_dir = dir;
-        req.progress = !options.quiet;
-        req.metadata = options.metadata;
-        req.metadata.emplace_back("run_id", run.run_id);
-        SceneRunResult result;
-        try {
-            result = run_scene(req);
-        } catch (const InputError& e) {
-            throw InputError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
-        } catch (const RunError& e) {
-            throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
-        }
-        std::string steps_file;
-        for (const auto& f : result.files) {
-            outcome.files.push_back(f);
-            if (f.size() >= 10 && f.compare(f.size() - 10, 10, "_steps.csv") == 0)
-                steps_file = fs::path(f).filename().string();
-        }
-        rows.push_back(table.cells(RunsRow(run, result, steps_file)));
-        if (!options.quiet) {
-            const Summary update = summarize(metric_series(result, "update_ms"));
-            const Summary step = summarize(metric_series(result, "step_ms"));
-            std::printf("[%zu/%zu] %s: %zu particles on %s, %zu steps, update %.3f ms, step %.3f ms (medians), %.1f s\n",
-                        i + 1, runs.size(), run.run_id.c_str(), result.particles, result.device.c_str(),
-                        result.steps.size(), update.median, step.median, result.wall_seconds);
-            if (!result.blow_up.empty()) std::printf("    recorded, not fatal: %s\n", result.blow_up.c_str());
-            for (const auto& [k, v] : result.validation_summary) std::printf("    %s = %.4g\n", k.c_str(), v);
-            std::fflush(stdout);
-        }
+        rows.push_back(run_one(spec, run, table, dir, options, i, runs.size(), outcome.files));
     }
     if (!handed_on.empty()) {
         if (!options.quiet)
@@ -231,9 +274,36 @@ ExperimentOutcome run_experiment(const ExperimentSpec& spec, const std::vector<P
             if (rows[i].empty()) rows[i] = delegated.at(runs[i].run_id);
     }
     if (writing) {
-        CsvWriter table(outcome.runs_csv, columns, options.metadata);
+        Metadata meta = options.metadata;
+        meta.emplace_back("columns", runs_columns_note());
+        CsvWriter table(outcome.runs_csv, columns, meta);
         for (const auto& row : rows) table.row(row);
         table.commit();
+    }
+    outcome.files.push_back(outcome.runs_csv);
+    return outcome;
+}
+
+ExperimentOutcome append_runs(const ExperimentSpec& spec, const std::vector<PlannedRun>& runs_so_far,
+                              const std::vector<PlannedRun>& more, const ExperimentRunOptions& options) {
+    const std::string dir = experiment_dir(options.out_dir, spec);
+    ExperimentOutcome outcome;
+    outcome.runs_csv = (fs::path(dir) / "runs.csv").string();
+    const CsvTable old = read_csv(outcome.runs_csv);
+    std::vector<PlannedRun> all = runs_so_far;
+    all.insert(all.end(), more.begin(), more.end());
+    const ColumnTable<RunsRow> table = runs_table(all);
+    const std::vector<std::string> columns = table.names();
+    if (old.columns != columns)
+        throw InputError("'" + outcome.runs_csv + "' has other columns than this experiment writes now; run it again "
+                         "(--force) before adding repetitions to it");
+    std::vector<std::vector<std::string>> rows = old.rows;
+    for (std::size_t i = 0; i < more.size(); ++i)
+        rows.push_back(run_one(spec, more[i], table, dir, options, i, more.size(), outcome.files));
+    if (process_ranks().rank() == 0) {
+        CsvWriter writer(outcome.runs_csv, columns, options.metadata);
+        for (const auto& row : rows) writer.row(row);
+        writer.commit();
     }
     outcome.files.push_back(outcome.runs_csv);
     return outcome;

@@ -82,6 +82,16 @@ public:
         return long(integer(t, key, s.fallback == nullptr, s.fallback ? std::stoll(s.fallback) : 0, &s.range, where));
     }
 
+    // A run setting that takes any number (end_time): its range from the table; absent: 0.
+    double run_number(const toml::table& t, const std::string& key) const {
+        const toml::node* n = t.get(key);
+        if (!n) return 0;
+        if (!n->is_number()) fail(n->source(), "'" + key + "' must be a number, not " + type_name(*n));
+        const double v = n->value<double>().value();
+        check_value(*n, key, run_setting(key).range, format_number(v));
+        return v;
+    }
+
     double number(const toml::table& t, const std::string& key, double fallback, double lo_exclusive) const {
         const toml::node* n = t.get(key);
         if (!n) return fallback;
@@ -218,9 +228,11 @@ std::vector<Gauge> read_gauges(const SpecReader& r, const toml::node& node) {
 RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index) {
     const toml::table* t = node.as_table();
     if (!t) r.fail(node.source(), "each [[runs]] entry must be a table");
-    r.check_keys(*t, {"scene", "label", "set", "solver", "validation"}, "[[runs]]");
+    r.check_keys(*t, {"scene", "label", "steps", "end_time", "set", "solver", "validation"}, "[[runs]]");
     RunSpec run;
     run.line = long(t->source().begin.line);
+    if (t->get("steps")) run.steps = long(r.integer(*t, "steps", true, 0, &run_setting("steps").range, "[[runs]]"));
+    if (t->get("end_time")) run.end_time = r.run_number(*t, "end_time");
     run.scene = r.text(*t, "scene", true, "", "[[runs]]");
     const auto& scenes = scene_catalogue();
     if (is_case_scene(run.scene)) {
@@ -277,7 +289,7 @@ ExperimentSpec load_spec(const std::string& path) {
         r.fail(e.source(), "TOML syntax error: " + std::string(e.description()));
     }
     r.check_keys(doc,
-                 {"name", "reproduces", "description", "steps", "warmup", "repetitions", "seed", "record",
+                 {"name", "reproduces", "description", "steps", "end_time", "warmup", "repetitions", "max_repetitions", "seed", "record",
                   "snapshot_every", "solver", "runs", "sweep", "host", "stability", "validation", "blow_up", "gauges"},
                  "the top level");
     ExperimentSpec spec;
@@ -288,9 +300,13 @@ ExperimentSpec load_spec(const std::string& path) {
         r.fail(doc.get("name")->source(), "'name' must be a non-empty file name of letters, digits, '.', '_' or '-'");
     spec.reproduces = r.text(doc, "reproduces", true, "", top);
     spec.description = r.text(doc, "description", false, "", top);
-    spec.steps = r.run_count(doc, "steps", top);
+    spec.end_time = r.run_number(doc, "end_time");
+    // With an end time, steps is a cap, and no cap is given by leaving it out; so is it where
+    // every run gives its own steps or end time (checked with the runs below).
+    if (doc.get("steps")) spec.steps = r.run_count(doc, "steps", top);
     spec.warmup = r.run_count(doc, "warmup", top);
     spec.repetitions = r.run_count(doc, "repetitions", top);
+    spec.max_repetitions = r.run_count(doc, "max_repetitions", top);
     spec.seed = r.integer(doc, "seed", false, 1, LLONG_MIN, top);
     spec.snapshot_every = r.run_count(doc, "snapshot_every", top);
 
@@ -333,6 +349,9 @@ ExperimentSpec load_spec(const std::string& path) {
         if ((run.validation || spec.validation) && !find_validation_metric(run.scene))
             r.fail_at(run.line, "validation asked for, but scene '" + run.scene + "' has no validation metric (scenes with one: " +
                                     scenes_with_validation() + ")");
+        if (spec.steps == 0 && spec.end_time <= 0 && !run.steps && !run.end_time)
+            r.fail_at(0, "missing required key 'steps' (or 'end_time') at the top level: the run at line " +
+                             std::to_string(run.line) + " gives neither of its own");
         spec.runs.push_back(std::move(run));
     }
 
@@ -354,10 +373,11 @@ ExperimentSpec load_spec(const std::string& path) {
     if (const toml::node* host = doc.get("host")) {
         const toml::table* t = host->as_table();
         if (!t) r.fail(host->source(), "'host' must be a table, not " + SpecReader::type_name(*host));
-        r.check_keys(*t, {"scale", "steps"}, "[host]");
+        r.check_keys(*t, {"scale", "steps", "end_time"}, "[host]");
         HostReduction h;
         h.scale = r.number(*t, "scale", 1.0, 0.0);
         h.steps = long(r.integer(*t, "steps", false, 0, 1, "[host]"));
+        h.end_time = r.run_number(*t, "end_time");
         spec.host = h;
     }
 
@@ -371,6 +391,9 @@ ExperimentSpec load_spec(const std::string& path) {
         if (s.probe != "cfl-limit" && s.probe != "energy")
             r.fail(t->get("probe")->source(), "'probe' must be \"cfl-limit\" or \"energy\", not '" + s.probe + "'");
         s.time = t->get("time") ? r.number(*t, "time", 0, 0.0) : 0.0;
+        if (s.time > 0 && spec.end_time > 0)
+            r.fail(t->get("time")->source(), "'time' in [stability] and 'end_time' at the top level both set the "
+                                             "simulated time to reach; give one");
         s.cfl_low = r.number(*t, "cfl_low", s.cfl_low, 0.0);
         s.cfl_high = r.number(*t, "cfl_high", s.cfl_high, 0.0);
         if (s.cfl_high <= s.cfl_low) r.fail(t->source(), "'cfl_high' must be greater than 'cfl_low'");

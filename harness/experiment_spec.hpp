@@ -4,9 +4,14 @@
 //   name = "fig4"                      # required; results go to results/<name>/
 //   reproduces = "Figure 4: ..."       # required; shown by `sphbench list`
 //   description = "..."                # optional
-//   steps = 1000                       # required; recorded steps per run (> 0)
+//   steps = 1000                       # required; recorded steps per run (> 0); with end_time
+//                                      #   optional: a cap on the steps after the warm-up
+//   end_time = 1.0                     # optional; each run stops at the first step whose
+//                                      #   simulated time reaches it (> 0; `steps` is then a cap)
 //   warmup = 0                         # optional; steps run first and not recorded (>= 0)
 //   repetitions = 1                    # optional; each repetition is its own run (row)
+//   max_repetitions = 16               # optional; `run --baseline` adds repetitions up to this
+//                                      #   many while a verdict against the baseline is inconclusive
 //   seed = 1                           # optional; recorded in the provenance
 //   record = ["summary", "steps"]      # optional; any of summary, steps, snapshots,
 //                                      #   counters-every-step (runs.csv is always written)
@@ -34,6 +39,8 @@
 //   [[runs]]                           # one or more
 //     scene = "armadillo"              #   required; a scene of `sphbench info`, or "case:FILE" (case_file.hpp)
 //     label = "armadillo-2980K"        #   optional; default: scene name and index
+//     steps = 1000                     #   optional: this run's steps (replaces the top level's)
+//     end_time = 0.3                   #   optional: this run's end time (replaces the top level's)
 //     set = { particles = 2980000 }    #   scene options: integer, float or string values
 //     solver = { merge = true }        #   optional per-run overrides of [solver]
 //   [sweep]                            # optional cartesian product over every run: each key a
@@ -52,7 +59,8 @@
 //     every = 0.01
 //   [host]                             # optional; when a run's backend resolves to the host:
 //     scale = 0.01                     #   particle counts times this (dp over its cube root)
-//     steps = 100                      #   replaces steps
+//     steps = 100                      #   replaces steps (with an end time: a cap)
+//     end_time = 0.05                  #   replaces the end time of the runs that have one
 //   [stability]                        # optional; makes the spec a study for `sphbench stability`
 //     probe = "cfl-limit"              #   "cfl-limit" (bisection over cfl) or "energy" (time series)
 //     time = 0.5                       #   simulated seconds a run must reach (absent: `steps` steps);
@@ -80,6 +88,8 @@ struct RunSpec {
     std::string scene, label;
     SettingMap scene_options;  // set = { ... }
     SettingMap solver;         // per-run overrides
+    std::optional<long> steps;        // replaces the spec's steps
+    std::optional<double> end_time;   // replaces the spec's end_time
     std::optional<ValidationRequest> validation;  // replaces the spec's [validation]
     long line = 0;             // where the [[runs]] entry starts, for messages
 };
@@ -91,7 +101,8 @@ struct SweepAxis {
 
 struct HostReduction {
     double scale = 1.0;
-    long steps = 0;  // 0: keep the spec's steps
+    long steps = 0;         // 0: keep the spec's steps
+    double end_time = 0;    // 0: keep the end times; else replaces them (in runs that have one)
 };
 
 struct StabilityStudy {
@@ -104,7 +115,8 @@ struct StabilityStudy {
 
 struct ExperimentSpec {
     std::string path, name, reproduces, description;
-    long steps = 0, warmup = 0, repetitions = 1;
+    long steps = 0, warmup = 0, repetitions = 1, max_repetitions = 16;  // steps 0: no cap (only with an end time)
+    double end_time = 0;                                                // 0: none
     long long seed = 1;
     std::vector<std::string> record = {"summary"};
     long snapshot_every = 0;
@@ -137,7 +149,8 @@ struct PlannedRun {
     SettingMap scene_options;    // after scaling
     SettingMap solver_settings;  // every solver key, resolved, for CSV columns
     SolverOptions solver;
-    long steps = 0, warmup = 0, snapshot_every = 0;
+    long steps = 0, warmup = 0, snapshot_every = 0;  // steps: recorded steps, or their cap; 0: no cap
+    double end_time = 0;  // > 0: the run stops at the first step that reaches it
     long repetition = 1;  // 1-based
     double scale = 1.0;   // --scale times [host] scale where it applied
     bool reduced_scale = false;

@@ -8,13 +8,14 @@ namespace sph {
 
 class Progress {
 public:
-    Progress(std::string label, long total, bool enabled);
-    void update(long done, const std::string& detail = "");
+    Progress(std::string label, bool enabled);
+    // `fraction` of the work done (0 to 1), for the percentage and the time left; `detail` says
+    // where the run is ("step 12/100, t = 0.01 s"). Redrawn at most every 200 ms, and when done.
+    void update(double fraction, const std::string& detail);
     void finish();
 
 private:
     std::string label_;
-    long total_;
     bool enabled_;
     std::chrono::steady_clock::time_point start_, last_;
 };

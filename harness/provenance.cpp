@@ -94,7 +94,8 @@ std::string command_line_of(int argc, char** argv) {
     return s;
 }
 
-Metadata provenance(const std::string& backend, const std::string& devices, const std::string& command_line) {
+Metadata provenance(const std::string& backend, const std::string& devices, const std::string& variants,
+                    const std::string& command_line) {
     const BuildInfo b = build_info();
     char host[256] = "unknown";
     gethostname(host, sizeof host - 1);
@@ -107,6 +108,7 @@ Metadata provenance(const std::string& backend, const std::string& devices, cons
             {"cuda_compiled", b.cuda_compiled},
             {"backend", backend},
             {"devices", devices},
+            {"implementation_variants", variants},
             {"processes", process_ranks().description()},
             {"cuda", cuda.empty() ? "none" : cuda},
             {"host", host},

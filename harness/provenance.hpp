@@ -13,8 +13,10 @@ struct BuildInfo {
 };
 BuildInfo build_info();
 
-// Build, backend, devices, host, date and command line, plus anything the caller adds.
-Metadata provenance(const std::string& backend, const std::string& devices, const std::string& command_line);
+// Build, backend, devices, the implementation variants (every one, as name=value:
+// describe_implementation_variants), host, date and command line, plus anything the caller adds.
+Metadata provenance(const std::string& backend, const std::string& devices, const std::string& variants,
+                    const std::string& command_line);
 
 std::string utc_now();
 // FNV-1a of a program's bytes (by default this one's): results made by another binary are not

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -63,6 +64,17 @@ ResultSet load_folder(const fs::path& runs_csv) {
 
 double median_of(const std::vector<double>& v) { return summarize(v).median; }
 
+constexpr std::size_t min_split_group = 2;  // repetitions on each side of a split: one is an outlier
+
+// In sorted values, the index of the first value above the widest gap that leaves at least
+// min_split_group values on each side; 0 when there are too few values.
+std::size_t widest_gap(const std::vector<double>& sorted) {
+    std::size_t at = 0;
+    for (std::size_t k = min_split_group; k + min_split_group <= sorted.size(); ++k)
+        if (at == 0 || sorted[k] - sorted[k - 1] > sorted[at] - sorted[at - 1]) at = k;
+    return at;
+}
+
 // Counters are written by one formatter, but compare numerically so "2" equals "2.0".
 bool same_counter(const std::string& a, const std::string& b) {
     if (a == b) return true;
@@ -91,6 +103,7 @@ const char* verdict_name(Verdict v) {
     case Verdict::faster: return "FASTER";
     case Verdict::slower: return "SLOWER";
     case Verdict::ambiguous: return "AMBIGUOUS";
+    case Verdict::noisy: return "NOISY";
     case Verdict::counter_changed: return "COUNTER CHANGED";
     }
     return "?";
@@ -102,9 +115,105 @@ bool Comparison::regressed() const {
     });
 }
 
+bool Comparison::inconclusive() const {
+    return std::any_of(rows.begin(), rows.end(), [](const MetricComparison& m) {
+        return m.verdict == Verdict::ambiguous || m.verdict == Verdict::noisy;
+    });
+}
+
 int comparison_exit_code(const Comparison& c) {
     if (!c.comparable()) return 3;
-    return c.regressed() ? 1 : 0;
+    if (c.regressed()) return 1;
+    return c.inconclusive() ? exit_inconclusive : 0;
+}
+
+const char* overall_verdict(const Comparison& c) {
+    switch (comparison_exit_code(c)) {
+    case 0: return "NO REGRESSION";
+    case 1: return "REGRESSION";
+    case 3: return "NOTHING COMPARABLE";
+    default: return "INCONCLUSIVE";
+    }
+}
+
+std::string inconclusive_advice(const Comparison& c) {
+    const bool noisy = std::any_of(c.rows.begin(), c.rows.end(), [](const MetricComparison& r) { return r.verdict == Verdict::noisy; });
+    std::string s = "inconclusive: rerun the candidate with more repetitions (--set repetitions=N";
+    s += ", or `sphbench run SPEC --baseline DIR`, which adds repetitions while a verdict is AMBIGUOUS)";
+    if (noisy) s += " on a quiet machine (nothing else running on its cores)";
+    s += ", then compare again";
+    const auto thin = std::find_if(c.rows.begin(), c.rows.end(), [](const MetricComparison& r) {
+        return r.verdict == Verdict::ambiguous && r.n_baseline < CompareOptions::min_samples;
+    });
+    if (thin != c.rows.end())
+        s += "; rerun the baseline too: it has " + std::to_string(thin->n_baseline) + " sample(s) of " + thin->run + " " +
+             thin->metric + " where the rank test needs " + std::to_string(CompareOptions::min_samples);
+    if (std::any_of(c.rows.begin(), c.rows.end(), [](const MetricComparison& r) { return r.disturbance.in_baseline; }))
+        s += "; rerun the baseline too: its repetitions disagree";
+    if (!c.regressed()) s += "; exit " + std::to_string(exit_inconclusive);
+    return s;
+}
+
+Disturbance find_disturbance(const std::vector<double>& base, const std::vector<double>& cand,
+                             const std::vector<double>& base_reps, const std::vector<double>& cand_reps,
+                             double change, const CompareOptions& o) {
+    Disturbance d;
+    const auto relative_iqr = [](const std::vector<double>& v) {
+        const Summary s = summarize(v);
+        return s.median != 0 ? (s.q3 - s.q1) / std::abs(s.median) : 0.0;
+    };
+    char buf[256];
+    if (base.size() >= CompareOptions::min_spread_samples && cand.size() >= CompareOptions::min_spread_samples) {
+        d.spread_baseline = relative_iqr(base);
+        d.spread_candidate = relative_iqr(cand);
+        if (d.spread_candidate >= o.threshold && d.spread_candidate >= o.noise_ratio * d.spread_baseline) {
+            d.found = true;
+            std::snprintf(buf, sizeof buf,
+                          "the candidate is far noisier than the baseline: its interquartile range is %.1f%% of its "
+                          "median against the baseline's %.1f%%",
+                          100 * d.spread_candidate, 100 * d.spread_baseline);
+            d.why = buf;
+        }
+    }
+    if (!base_reps.empty() && cand_reps.size() >= 2 * min_split_group) {
+        std::vector<double> c = cand_reps, b = base_reps;
+        std::sort(c.begin(), c.end());
+        std::sort(b.begin(), b.end());
+        const Summary bs = summarize(b);
+        const std::size_t at = widest_gap(c), base_at = widest_gap(b);
+        const double gap = c[at] - c[at - 1];
+        // The baseline's own scatter: its quartiles, or a split of its own (a bimodal machine).
+        const double base_scatter = std::max(bs.q3 - bs.q1, base_at ? b[base_at] - b[base_at - 1] : 0.0);
+        if (gap >= o.threshold * std::abs(bs.median) && gap > o.noise_ratio * base_scatter) {
+            d.found = true;
+            d.fast_group = at;
+            d.slow_group = c.size() - at;
+            d.fast_median = summarize(std::vector<double>(c.begin(), c.begin() + long(at))).median;
+            d.slow_median = summarize(std::vector<double>(c.begin() + long(at), c.end())).median;
+            std::snprintf(buf, sizeof buf,
+                          "the candidate's repetitions split into %zu near %.4g and %zu near %.4g (the baseline's "
+                          "median: %.4g)",
+                          d.fast_group, d.fast_median, d.slow_group, d.slow_median, bs.median);
+            d.why += (d.why.empty() ? "" : "; ") + std::string(buf);
+        }
+    }
+    const auto scatter = [&](const std::vector<double>& reps, double& out, const char* side) {
+        if (reps.size() < CompareOptions::min_scatter_repetitions) return false;
+        out = relative_iqr(reps);
+        if (out >= o.threshold && o.noise_ratio * out >= std::abs(change)) {
+            d.found = true;
+            std::snprintf(buf, sizeof buf,
+                          "the %s's %zu repetitions disagree: their medians' interquartile range is %.1f%% of their "
+                          "median, against a change of %+.1f%%",
+                          side, reps.size(), 100 * out, 100 * change);
+            d.why += (d.why.empty() ? "" : "; ") + std::string(buf);
+            return true;
+        }
+        return false;
+    };
+    d.in_baseline = scatter(base_reps, d.scatter_baseline, "baseline");
+    scatter(cand_reps, d.scatter_candidate, "candidate");
+    return d;
 }
 
 double mann_whitney_p(const std::vector<double>& a, const std::vector<double>& b) {
@@ -174,6 +283,13 @@ Comparison compare_results(const ResultSet& base, const ResultSet& cand, const C
             const bool enough = r.n_baseline >= CompareOptions::min_samples && r.n_candidate >= CompareOptions::min_samples;
             if (enough) r.p = mann_whitney_p(bs.at(m), cs.at(m));
             r.verdict = time_verdict(r.change, r.p, enough, o);
+            static const std::vector<double> none;
+            const auto reps = [&m](const RunSamples& s) -> const std::vector<double>& {
+                const auto it = s.run_values.find(m);
+                return it == s.run_values.end() ? none : it->second;
+            };
+            r.disturbance = find_disturbance(bs.at(m), cs.at(m), reps(b), reps(c), r.change, o);
+            if (r.disturbance.found) r.verdict = Verdict::noisy;
             out.rows.push_back(r);
         }
         for (const auto& counter : counter_columns()) {

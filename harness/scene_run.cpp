@@ -37,7 +37,10 @@ static const Scene& built_scene(const std::string& name, const std::map<std::str
     return cached;
 }
 
-SceneRunResult run_scene(const SceneRunRequest& req) {
+SceneRunResult run_scene(const SceneRunRequest& request) {
+    // A validation request's own end time stops the run too, where the request gives none.
+    SceneRunRequest req = request;
+    if (req.end_time <= 0 && req.validation.enabled()) req.end_time = req.validation.end_time;
     SceneRunResult res;
     const Scene& scene = built_scene(req.scene, req.scene_options);
     res.particles = scene.size();
@@ -80,19 +83,23 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         return meta;
     };
 
-    const long total = req.warmup + req.steps;
+    // With an end time the step budget is a cap (none when steps is 0); the first rule reached
+    // ends the run.
+    const bool capped = req.end_time <= 0 || req.steps > 0;
+    const long total = capped ? req.warmup + req.steps : 0;
     RunLoop loop(sim, req.warmup);
-    StepCountStop budget(total);
-    loop.stop_when(budget);
+    std::optional<StepCountStop> budget;
+    if (capped) loop.stop_when(budget.emplace(total));
     std::optional<EndTimeStop> end_time;
-    if (req.validation.enabled() && req.validation.end_time > 0) loop.stop_when(end_time.emplace(req.validation.end_time));
+    if (req.end_time > 0) loop.stop_when(end_time.emplace(req.end_time));
     RecordBlowUp record_blow_up;
     if (req.record_blow_up) loop.stop_when(record_blow_up);
 
     // Sinks are told in this order: the files are listed as they were written.
     StepRecorder steps;
-    WorkCounterSink work(req.count_work_every, total);
-    loop.feed(steps).feed(work);
+    RunCostSink cost;
+    WorkCounterSink work(req.count_work_every);
+    loop.feed(steps).feed(cost).feed(work);
     // A snapshot gathers every rank's particles, so every rank takes it; rank 0 writes it.
     std::optional<SnapshotSink> snapshots;
     if (!req.out_dir.empty() && req.snapshot_every > 0)
@@ -102,7 +109,7 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
         loop.feed(validation.emplace(scene, req.validation, writing ? out_path("_validation.csv") : "", scene_metadata()));
     std::optional<GaugeSink> gauge_sink;
     if (!gauges.empty()) loop.feed(gauge_sink.emplace(gauges, writing ? out_path("_gauges.csv") : "", scene_metadata()));
-    ProgressSink progress(req.scene, total, req.progress);
+    ProgressSink progress(req.scene, total, req.end_time, req.progress);
     loop.feed(progress);
     std::optional<LastGoodSink> last_good;
     if (writing) loop.feed(last_good.emplace(fs::path(req.out_dir).string(), req.basename));
@@ -119,6 +126,12 @@ SceneRunResult run_scene(const SceneRunRequest& req) {
 
     const RunLoopOutcome out = loop.run();
     res.wall_seconds = out.wall_seconds;
+    res.steps_taken = out.steps;
+    res.sim_time = out.time;
+    res.end_time = req.end_time;
+    res.stopped_by = out.blow_up ? "blow_up" : req.end_time > 0 && out.time >= req.end_time ? "end_time" : "steps";
+    res.cost = cost.cost();
+    if (solver.search.verlet) res.list_bytes = sim.neighbour_list_bytes();
     if (out.blow_up) res.blow_up = out.blow_up->message + out.blow_up->where;  // a result of the study
     res.steps = steps.take();
     res.work = work.totals();

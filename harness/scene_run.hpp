@@ -8,6 +8,7 @@
 
 #include "gauge.hpp"
 #include "provenance.hpp"
+#include "run_cost_sink.hpp"
 #include "simulation.hpp"
 #include "step_table.hpp"
 #include "validation_recorder.hpp"
@@ -19,10 +20,11 @@ struct SceneRunRequest {
     std::string scene;
     std::map<std::string, std::string> scene_options;
     SolverOptions solver;
-    long steps = 100;
+    long steps = 100;             // recorded steps; with an end time their cap, 0: no cap
     long warmup = 0;              // steps run first and not recorded
+    double end_time = 0;          // > 0: stop at the first step whose simulated time reaches it (0: the validation's)
     long snapshot_every = 0;      // 0: no snapshots
-    long count_work_every = 0;    // 0: work counters once, on the budget's last step (none when an end time stops first)
+    long count_work_every = 0;    // 0: work counters once, on the state the run ends with
     std::string out_dir;          // "" writes nothing
     std::string basename;         // file stem of this run's outputs
     bool write_step_csv = true;
@@ -43,7 +45,15 @@ struct SceneRunResult {
     std::size_t bytes_allocated = 0;
     double dp = 0;
     std::string device;
-    double wall_seconds = 0;
+    // The whole run, from t = 0, warm-up included: what a user waits for.
+    long steps_taken = 0;
+    double sim_time = 0;      // simulated time reached
+    double wall_seconds = 0;  // the run loop's wall clock: every step and the sinks' work between them
+    double end_time = 0;      // as asked (0: none)
+    std::string stopped_by;   // "end_time", "steps" (the step budget or cap) or "blow_up"
+    RunCost cost;             // steps, and with Verlet lists the rebuild and listed steps
+    std::size_t list_bytes = 0;  // the neighbour lists' memory (Verlet lists), all subdomains
+    double seconds_per_sim_second() const { return sim_time > 0 ? wall_seconds / sim_time : 0; }
     std::vector<std::string> files;  // what was written
     std::map<std::string, std::string> scene_settings;
     std::string transport;  // multi-subdomain runs: the transport, and why when it fell back

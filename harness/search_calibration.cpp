@@ -10,7 +10,7 @@ namespace sph {
 
 namespace {
 
-// The Verlet lists as the README's benchmarks run them: cells of the support with a skin of
+// The Verlet lists as the benchmarks of docs/results.md run them: cells of the support with a skin of
 // 0.1 supports, and half-size cells with 0.05. They rebuild every 5 steps here, more often than
 // any flow measured so far (the dam break rebuilt every 7.5 steps once its column fell, at
 // 0.13 s): a cautious estimate of what the lists cost a step.

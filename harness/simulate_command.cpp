@@ -1,4 +1,6 @@
-// sphbench simulate SCENE: runs one scene for N steps and reports its speed.
+// sphbench simulate SCENE: runs one scene for N steps, or to a simulated time, and reports its
+// speed: over the whole run (seconds per simulated second) and per step over the window after
+// the warm-up.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -22,9 +24,24 @@ struct SimulateArgs {
     std::string out = "results/simulate";
     bool quiet = false;
     bool auto_search = false;
-    double validate_every = 0, end_time = 0;
+    double validate_every = 0, end_time = 0;  // end_time 0: none
+    bool steps_given = false;
     SettingMap solver;  // the solver flags given, checked, by spec key
 };
+
+// Which rule ended the run, and when both could have, what the other one was.
+std::string stop_reason(const SceneRunRequest& req, const SceneRunResult& r) {
+    char text[160];
+    if (r.stopped_by == "end_time")
+        std::snprintf(text, sizeof text, "stopped at the end time %.6g s", req.end_time);
+    else if (req.end_time > 0)
+        std::snprintf(text, sizeof text, "stopped by the step cap (--steps %ld after %ld warm-up) before the end time %.6g s",
+                      req.steps, req.warmup, req.end_time);
+    else
+        std::snprintf(text, sizeof text, "stopped after the steps asked for (--steps %ld after %ld warm-up)", req.steps,
+                      req.warmup);
+    return text;
+}
 
 void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
     std::vector<double> step_ms, update_ms, forces_ms, wall_ms;
@@ -39,19 +56,29 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
     const double pairs = r.work.samples ? double(r.work.neighbours) / double(r.work.samples) : 0;
     std::printf("scene %s on %s (%s): %zu particles (%zu fluid, %zu boundary), spacing %.6g m\n", req.scene.c_str(),
                 r.device.c_str(), backend_name(req.solver.backend).c_str(), r.particles, r.fluid, r.boundary, r.dp);
+    // The whole run first: what a user of the solver waits for.
+    std::printf("run: %ld steps (%ld of them warm-up), simulated time %.6g s, %s\n", r.steps_taken,
+                std::min(req.warmup, r.steps_taken), r.sim_time, stop_reason(req, r).c_str());
+    if (r.sim_time > 0)
+        std::printf("whole run: %.3f s wall, %.4g s per simulated second (every step, warm-up, rebuilds, sorts and "
+                    "exchanges included)\n",
+                    r.wall_seconds, r.seconds_per_sim_second());
+    if (r.list_bytes > 0 && r.cost.steps > 0)  // Verlet lists, asked for or chosen by --auto-search
+        std::printf("Verlet lists: %ld rebuilds in %ld steps (every %.1f steps); mean wall time of a rebuild step %.3f ms, "
+                    "of a listed step %.3f ms (nan: no such step); lists %.0f bytes per particle\n",
+                    r.cost.rebuild_steps, r.cost.steps,
+                    r.cost.rebuild_steps > 0 ? double(r.cost.steps) / double(r.cost.rebuild_steps) : 0.0,
+                    r.cost.rebuild_step_ms(), r.cost.listed_step_ms(), double(r.list_bytes) / double(r.particles));
+    if (req.solver.variants != ImplementationVariants{})
+        std::printf("implementation variants: %s%s\n", describe_implementation_variants(req.solver.variants).c_str(),
+                    req.solver.backend == BackendKind::cuda ? "" : " (the host backend has one loop each: no effect)");
     if (r.steps.empty()) return;
     const StepRecord& last = r.steps.back();
-    std::printf("%zu steps recorded after %ld warm-up, simulated time %.5g s, last dt %.3g s\n", r.steps.size(),
-                req.warmup, last.time, last.dt);
+    std::printf("window: %zu steps after the %ld warm-up, last dt %.3g s\n", r.steps.size(), req.warmup, last.dt);
     // The mean counts what the median hides: Verlet lists' rebuilds, a few steps in a hundred.
-    std::printf("time per step: median %.3f ms (quartiles %.3f to %.3f), mean %.3f ms; update (forces + integration) "
-                "%.3f ms\n",
+    std::printf("time per step in the window: median %.3f ms (quartiles %.3f to %.3f), mean %.3f ms; update (forces + "
+                "integration) %.3f ms\n",
                 st.median, st.q1, st.q3, st.mean, up.median);
-    if (req.solver.search.verlet) {
-        std::size_t rebuilds = 0;
-        for (const auto& s : r.steps) rebuilds += s.phase_ms[std::size_t(Phase::neighbour_list)] > 0;
-        std::printf("Verlet lists: rebuilt in %zu of the %zu recorded steps\n", rebuilds, r.steps.size());
-    }
     // With several subdomains the step's phases are those of the slowest subdomain: what the
     // decomposition takes when the subdomains run side by side (GPUs, MPI ranks). One process on
     // the host backend runs them one after another, so there its wall clock is the step's time.
@@ -80,7 +107,9 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
 
 void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     auto args = std::make_shared<SimulateArgs>();
-    CLI::App* cmd = app.add_subcommand("simulate", "run one scene for N steps, show progress, report its speed");
+    CLI::App* cmd = app.add_subcommand(
+        "simulate", "run one scene for N steps or to a simulated time (--end-time), show progress, report its speed: "
+                    "seconds per simulated second over the whole run, time per step after the warm-up");
     cmd->add_option("scene", args->scene,
                     "scene name (see `sphbench info`), or case:FILE.toml, a case file: a tank, boxes of fluid, "
                     "obstacles and meshes in metres (experiments/cases/README.md), e.g. "
@@ -100,7 +129,13 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         *field = std::stol(s.simulate_default);
         CLI::Option* o = cmd->add_option(setting_flag(s), *field, s.help)->check(in_range(s.range));
         if (*field != 0) o->capture_default_str();
+        if (std::string(key) == "steps")
+            o->description(std::string(s.help) + " (with --end-time: a cap, none unless given)")
+                ->each([args](const std::string&) { args->steps_given = true; });
     }
+    const RunSetting& end_time = run_setting("end_time");
+    cmd->add_option(setting_flag(end_time), args->end_time, std::string(end_time.help) + ", for any scene")
+        ->check(in_range(end_time.range));
     cmd->add_option("--out", args->out, "output folder")->capture_default_str();
     cmd->add_option("--gauge", args->gauges,
                     "a gauge sampled every EVERY simulated seconds into SCENE_gauges.csv (repeatable): "
@@ -111,13 +146,10 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     cmd->add_flag("--auto-search", args->auto_search,
                   "time every search strategy for a few steps first, Verlet lists too (one subdomain), and run the "
                   "fastest (overrides --merge, --cells-per-support, --verlet and --skin)");
-    auto* validate = cmd->add_option("--validate", args->validate_every,
-                                     "evaluate the scene's validation metric every DT simulated seconds (dambreak: surge "
-                                     "front against Martin and Moyce; tank: hydrostatic pressure) into SCENE_validation.csv")
-                         ->check(in_range(number_above(0)));
-    cmd->add_option("--end-time", args->end_time, "stop at this simulated time (--steps is then a cap)")
-        ->check(in_range(number_above(0)))
-        ->needs(validate);
+    cmd->add_option("--validate", args->validate_every,
+                    "evaluate the scene's validation metric every DT simulated seconds (dambreak: surge front against "
+                    "Martin and Moyce; tank: hydrostatic pressure) into SCENE_validation.csv")
+        ->check(in_range(number_above(0)));
     add_solver_options(*cmd, args->solver);
     cmd->callback([args, &ctx] {
         check_output_folder("--out", args->out);
@@ -126,8 +158,10 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         req.scene_options = parse_settings(args->settings);
         for (const std::string& g : args->gauges) req.gauges.push_back(parse_gauge_option(g));
         req.solver = solver_options(args->solver);
-        req.steps = args->steps;
+        // With an end time, --steps is a cap only when given.
+        req.steps = args->end_time > 0 && !args->steps_given ? 0 : args->steps;
         req.warmup = args->warmup;
+        req.end_time = args->end_time;
         req.snapshot_every = args->snapshot_every;
         req.out_dir = args->out;
         req.basename = scene_stem(args->scene);
@@ -136,6 +170,7 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         req.validation = {args->validate_every, args->end_time};
         req.metadata = provenance(backend_name(req.solver.backend),
                                   req.solver.backend == BackendKind::cuda ? cuda_device_summary() : "host",
+                                  describe_implementation_variants(req.solver.variants),
                                   command_line_of(ctx.argc, ctx.argv));
         const SceneRunResult r = run_scene(req);
         print_summary(req, r);

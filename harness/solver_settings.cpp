@@ -19,7 +19,7 @@ void check_balancer(const std::string& text) { make_balancer(text); }  // throws
 // Ranges: skin wider than the support grows the lists by (1 + skin)^3 for nothing, and a skin
 // of 0 would rebuild every step (verlet = false does that without the lists); fixed_dt and
 // cfl are "absent" at 0, so 0 itself is refused.
-const std::vector<SolverSetting>& settings() {
+const std::vector<SolverSetting>& solver_option_settings() {
     static const std::vector<SolverSetting> table = {
         {"backend", SettingKind::text, "auto", {}, {"auto", "cuda", "host"}, nullptr,
          "where to run: cuda, host, or auto (CUDA when a GPU is present)", true},
@@ -70,12 +70,30 @@ const std::vector<SolverSetting>& settings() {
     return table;
 }
 
+// The table: the settings above, then one text setting per implementation variant, made from
+// its registry (backend/implementation_variants.hpp) so that a name, a value or a default is
+// written once.
+const std::vector<SolverSetting>& settings() {
+    static const std::vector<SolverSetting> table = [] {
+        std::vector<SolverSetting> t = solver_option_settings();
+        for (const ImplementationVariant& v : implementation_variant_registry())
+            t.push_back({v.name, SettingKind::text, v.fallback().c_str(), {}, v.values, nullptr, v.why, true});
+        return t;
+    }();
+    return table;
+}
+
 const std::vector<RunSetting>& run_settings() {
     static const std::vector<RunSetting> table = {
         {"steps", whole_from(1), nullptr, "100", true, "steps to record"},
         {"warmup", whole_from(0), "0", "10", true, "steps run first and not recorded"},
         {"snapshot_every", whole_from(0), "0", "0", false, "write an HDF5 snapshot every K steps (0: none)"},
         {"repetitions", whole_from(1), "1", nullptr, true, "runs of each configuration, each its own row"},
+        {"max_repetitions", whole_from(1), "16", nullptr, false,
+         "most repetitions of a configuration that `run --baseline` runs while its verdict is inconclusive"},
+        // 0, outside the range, is "absent" (as fixed_dt's): the run is then `steps` steps long.
+        {"end_time", number_above(0), "0", "0", true,
+         "stop at the first step whose simulated time reaches T seconds (steps is then a cap)"},
     };
     return table;
 }
@@ -213,6 +231,8 @@ SolverOptions to_solver_options(const SettingMap& c, bool gpu_available) {
     o.fixed_dt = std::stod(c.at("fixed_dt"));
     o.cfl = std::stod(c.at("cfl"));
     o.diffusion = c.at("diffusion") == "true";
+    for (const ImplementationVariant& v : implementation_variant_registry())
+        set_implementation_variant(o.variants, v.name, c.at(v.name));
     return o;
 }
 
@@ -238,6 +258,10 @@ std::string setting_flag(const RunSetting& s) {
 
 long check_run_value(const std::string& key, const std::string& text, const std::string& name) {
     return std::stol(run_setting(key).range.check(name, text));
+}
+
+double check_run_number(const std::string& key, const std::string& text, const std::string& name) {
+    return std::stod(run_setting(key).range.check(name, text));
 }
 
 const char* build_precision() {

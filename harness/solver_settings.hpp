@@ -32,7 +32,9 @@ struct SolverSetting {
 // of a one-subdomain run), device_map (GPU of each subdomain), share_gpus (MPI ranks sharing
 // a node's GPUs), balancer, transport, gpu_direct (GPU memory to MPI), overlap
 // (paper 5.3's communication hidden under the inner update), cells_per_support, merge, verlet, skin, rebuild_every, fixed_dt (0: CFL-limited), cfl (0:
-// the scene's), diffusion, precision.
+// the scene's), diffusion, precision, then the implementation variants of the CUDA backend
+// (backend/implementation_variants.hpp: force_loop, list_build, list_entries; text settings
+// whose values and default come from that registry).
 const std::vector<SolverSetting>& solver_settings_table();
 const SolverSetting* find_solver_setting(const std::string& key);
 
@@ -58,9 +60,10 @@ SettingMap complete_solver_settings(const SettingMap& given);
 SolverOptions to_solver_options(const SettingMap& complete, bool gpu_available);
 
 // A setting of a run rather than of the solver: how many steps, how many of them first and not
-// recorded, how often a snapshot, how many repetitions. A whole number each, read from a spec's
-// top level, from `--set` and (not repetitions) from a `simulate` flag, all checked against the
-// one range here.
+// recorded, how often a snapshot, how many repetitions (whole numbers), and the simulated time
+// to stop at (a number; its default 0, outside the range, means none). Each is read from a
+// spec's top level, from `--set` and (not repetitions) from a `simulate` flag, all checked
+// against the one range here.
 struct RunSetting {
     const char* key;               // spec key and `--set` key
     ValueRange range;
@@ -70,7 +73,7 @@ struct RunSetting {
     const char* help;
 };
 
-// steps, warmup, snapshot_every, repetitions.
+// steps, warmup, snapshot_every, repetitions, max_repetitions, end_time.
 const std::vector<RunSetting>& run_settings_table();
 // Throws std::logic_error for a key not in the table (a programming error).
 const RunSetting& run_setting(const std::string& key);
@@ -79,6 +82,8 @@ const RunSetting* find_run_setting(const std::string& key);
 std::string setting_flag(const RunSetting& s);
 // Checks a value given as text; throws InputError "NAME: ..." as check_solver_value does.
 long check_run_value(const std::string& key, const std::string& text, const std::string& name);
+// The same for a setting that takes any number (end_time).
+double check_run_number(const std::string& key, const std::string& text, const std::string& name);
 
 // "float32", or "float64" in a build with -DSPH_DOUBLE=ON. Precision is fixed when the solver
 // is compiled, so a run asking for the other one needs the other build (precision_delegate.hpp).

@@ -43,7 +43,8 @@ void cfl_limit_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& 
     CsvWriter summary((fs::path(dir) / "summary.csv").string(), cfl_limit_table().names(), meta);
     for (const PlannedRun& run : runs) {
         const Scene scene = build_scene(run.scene, run.scene_options);
-        const TrialTarget target{st.time, run.steps, !quiet};
+        const double time = run.end_time > 0 ? run.end_time : st.time;  // end_time, else [stability] time
+        const TrialTarget target{time, run.steps, !quiet};
         const CflLimit lim = find_cfl_limit(scene, run.solver, target, st.cfl_low, st.cfl_high, st.bisections);
         double wall = 0;
         const TrialOutcome* smallest_failure = nullptr;
@@ -52,7 +53,7 @@ void cfl_limit_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& 
             trials.row(trial_table().cells(TrialRow{run.run_id, t}));
             if (!t.stable && (!smallest_failure || t.cfl < smallest_failure->cfl)) smallest_failure = &t;
         }
-        summary.row(cfl_limit_table().cells(CflLimitRow{StudyRun{run, scene, st.time}, lim, smallest_failure, wall}));
+        summary.row(cfl_limit_table().cells(CflLimitRow{StudyRun{run, scene, time}, lim, smallest_failure, wall}));
         std::printf("%s: %zu particles, largest stable cfl %.4g, smallest unstable %.4g (%s at step %ld), %zu trials, "
                     "%.1f s\n",
                     run.run_id.c_str(), scene.size(), lim.stable, lim.unstable,
@@ -75,7 +76,8 @@ void energy_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
         std::vector<StepSink*> sinks;
         if (st.sample_every > 0) sinks.push_back(&energy.emplace(scene, st.sample_every, samples));
         sinks.push_back(&last_good_state);
-        const TrialOutcome t = run_trial(scene, run.solver, TrialTarget{st.time, run.steps, !quiet}, sinks);
+        const double time = run.end_time > 0 ? run.end_time : st.time;  // end_time, else [stability] time
+        const TrialOutcome t = run_trial(scene, run.solver, TrialTarget{time, run.steps, !quiet}, sinks);
         // Drifts relative to the energy the water can spend: its initial kinetic energy plus its
         // potential energy above its lowest point (the floor for still water), which does not
         // depend on where the world's origin is.
@@ -98,7 +100,7 @@ void energy_study(const ExperimentSpec& spec, const std::vector<PlannedRun>& run
             last_good_state.xdmf_path().empty() ? "" : fs::path(last_good_state.xdmf_path()).filename().string();
         const EnergySample& e1 = samples.back();
         summary.row(energy_summary_table().cells(
-            EnergySummaryRow{StudyRun{run, scene, st.time}, t, scale, e0, e1, worst_total, worst_surface, series, last_good}));
+            EnergySummaryRow{StudyRun{run, scene, time}, t, scale, e0, e1, worst_total, worst_surface, series, last_good}));
         std::printf("%s: %zu particles, %s after %ld steps (t = %.4g s), energy drift %.3g of its scale, free surface "
                     "%+.3g m, %.1f s\n",
                     run.run_id.c_str(), scene.size(), t.stable ? "stable" : ("BLEW UP (" + t.message + ")").c_str(),
@@ -143,6 +145,9 @@ void add_stability_command(CLI::App& app, CommandContext& ctx) {
                      "bisection, or the drift of energy and free surface over a long run");
     cmd->add_option("spec", a->experiment.spec, "stability spec, e.g. experiments/stability-cfl.toml")->required();
     cmd->add_option("--set", a->experiment.settings, "override key=value in every run (repeatable), as for `sphbench run`");
+    add_end_time_option(*cmd, a->experiment,
+                        "the simulated time every trial must reach (replaces end_time and [stability] time); a trial "
+                        "that needs more than `steps` steps is refused");
     cmd->add_option("--scale", a->experiment.scale, "multiply every particle count by F (dp by F^(-1/3))")
         ->check(in_range(number_above(0)));
     cmd->add_option("--backend", a->experiment.backend, "cuda, host or auto (default: the spec's, else auto)")

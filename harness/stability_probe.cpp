@@ -32,13 +32,14 @@ TrialOutcome run_trial(const Scene& scene, const SolverOptions& solver, const Tr
                    std::to_string(target.max_steps) + " steps; raise 'steps' or lower 'time'";
         };
     }
-    StepCountStop budget(target.max_steps, refusal);
+    std::optional<StepCountStop> budget;  // none: a time target without a cap
+    if (target.max_steps > 0 || target.time <= 0) loop.stop_when(budget.emplace(target.max_steps, refusal));
     RecordBlowUp blow_up;  // a trial that blows up is the study's answer, not a failure
-    loop.stop_when(budget).stop_when(blow_up);
+    loop.stop_when(blow_up);
     for (StepSink* s : sinks) loop.feed(*s);
     char label[64];
     std::snprintf(label, sizeof label, "%s cfl %.4g", scene.name.c_str(), out.cfl);
-    ProgressSink progress(label, target.max_steps, target.progress, 50, false);
+    ProgressSink progress(label, target.max_steps, target.time, target.progress, 50, false);
     loop.feed(progress);
 
     const RunLoopOutcome r = loop.run();

@@ -20,7 +20,7 @@ namespace sph {
 
 struct TrialTarget {
     double time = 0;      // simulated seconds to reach; 0: max_steps steps
-    long max_steps = 0;   // a trial that needs more steps than this is an input error
+    long max_steps = 0;   // a trial that needs more steps than this is an input error (0 with a time: no cap)
     bool progress = false;
 };
 

@@ -14,7 +14,7 @@ namespace sph {
 
 struct ValidationRequest {
     double every = 0;     // simulated seconds between output times; 0: no validation
-    double end_time = 0;  // > 0: the run stops at this simulated time (steps is then a cap)
+    double end_time = 0;  // > 0: the run's end time (it stops there; steps is then a cap), in the CSV's provenance
     bool enabled() const { return every > 0; }
 };
 

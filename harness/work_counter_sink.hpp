@@ -1,8 +1,9 @@
 #pragma once
 // The deterministic work counters (candidate pairs, neighbour pairs, ranges), counted on
-// recorded steps: every `every`-th one, or with every = 0 once, on the last step of the step
-// budget. A run that an end time stops before its budget is spent has no counts (the accuracy
-// study's runs.csv leaves the counter columns empty): counting costs a step's work again.
+// recorded steps: every `every`-th one, or with every = 0 once, on the state the run ends with
+// (whichever rule stopped it: a step budget or an end time). That single count is taken after
+// the run loop's clock has stopped, so that counting (a step's work again) is not part of the
+// run's wall time; a run that blows up has none.
 #include "step_sink.hpp"
 
 namespace sph {
@@ -14,12 +15,15 @@ struct WorkTotals {
 
 class WorkCounterSink final : public StepSink {
 public:
-    WorkCounterSink(long every, long budget_last_step) : every_(every), budget_last_step_(budget_last_step) {}
+    explicit WorkCounterSink(long every) : every_(every) {}
     void after_step(Simulation& sim, const StepRecord& r, const StepPoint& at) override;
+    void end(Simulation& sim) override;
     const WorkTotals& totals() const { return totals_; }
 
 private:
-    long every_, budget_last_step_;
+    void count(Simulation& sim);
+    long every_;
+    bool ended_recorded_ = false;  // the last step was recorded and a rule stopped the run after it
     WorkTotals totals_;
 };
 

@@ -1,12 +1,12 @@
-"""The README's claims table, generated from the committed results (results/reference/) by the
+"""The claims table of docs/results.md, generated from the committed results (results/reference/) by the
 declarations of plots/claims.toml: for each claim of the paper, our figure, the GPU and commit
 that measured it, a verdict (holds / does not hold / differs in kind) and why. A result whose
 commit is older than the last change under solver/ is marked STALE; where git's history cannot
 tell (a shallow clone, no repository, a commit it lacks) the table says so.
 
-Usage: python3 plots/claims.py                 print the table (markdown)
-       python3 plots/claims.py --write-readme  put it into README.md between the markers
-       python3 plots/claims.py --check         exit 1 when README.md's table differs (make test)
+Usage: python3 plots/claims.py          print the table (markdown)
+       python3 plots/claims.py --write  put it into docs/results.md between the markers (make claims)
+       python3 plots/claims.py --check  exit 1 when docs/results.md's table differs (make test)
 """
 import argparse
 import re
@@ -27,13 +27,14 @@ from sphplot import pd
 REPO = sphplot.REPO
 SPEC = REPO / "plots" / "claims.toml"
 REFERENCE = REPO / "results" / "reference"
+DOC = REPO / "docs" / "results.md"  # the page that holds the table, between BEGIN and END
 BEGIN, END = "<!-- claims:begin -->", "<!-- claims:end -->"
 VERDICTS = ("holds", "does not hold", "differs in kind")
 HEADER = ["where", "the paper says", "ours", "measured on", "commit", "current?", "verdict", "why"]
 FRESH_COLUMN = HEADER.index("current?")
 
 
-# No commit in the mark: the commit that changes solver/ cannot name itself in the README it carries.
+# No commit in the mark: the commit that changes solver/ cannot name itself in the page it carries.
 STALE = "**STALE**: solver/ changed after it"
 UNCOMMITTED = "uncommitted changes under solver/"
 
@@ -211,7 +212,8 @@ def ours_per_step(text):
         if m:
             case = m.group(2).strip() if m.group(1) == "sphbench" else None
             continue
-        m = re.match(r"time per step: median ([0-9.]+) ms", line)
+        # "time per step in the window:" since the summary leads with the whole run (issue 25)
+        m = re.match(r"time per step(?: in the window)?: median ([0-9.]+) ms", line)
         if m and case is not None:
             out[case] = float(m.group(1))
     return out
@@ -391,9 +393,9 @@ def table(reference=REFERENCE, spec=SPEC, repo=REPO):
     return note + "\n\n" + "\n".join(lines) + "\n", hist
 
 
-def readme_block(text):
+def doc_block(text, name=DOC.name):
     if BEGIN not in text or END not in text:
-        raise SystemExit(f"claims: README.md lacks the markers {BEGIN} and {END}.")
+        raise SystemExit(f"claims: {name} lacks the markers {BEGIN} and {END}.")
     return text.split(BEGIN, 1)[1].split(END, 1)[0].strip("\n") + "\n"
 
 
@@ -410,43 +412,51 @@ def masked(block):
     return "\n".join(out)
 
 
-def check(readme, generated, hist):
-    """(ok, message)."""
-    have = readme_block(readme)
+def check(doc, generated, hist, name="docs/results.md"):
+    """(ok, message) for the text `doc` of the page `name`."""
+    have = doc_block(doc, name)
     if have == generated:
-        return True, "claims: README.md's table matches the committed results."
+        return True, f"claims: {name}'s table matches the committed results."
     if hist[0] is None and masked(have) == masked(generated):
-        return True, (f"claims: README.md's table matches the committed results; whether they are current "
+        return True, (f"claims: {name}'s table matches the committed results; whether they are current "
                       f"is not checked here ({hist[1]}).")
     import difflib
-    diff = "\n".join(difflib.unified_diff(have.splitlines(), generated.splitlines(), "README.md", "generated",
+    diff = "\n".join(difflib.unified_diff(have.splitlines(), generated.splitlines(), name, "generated",
                                           lineterm="", n=0))
-    return False, ("claims: README.md's claims table differs from what plots/claims.py makes of results/reference/; "
-                   "run `make claims` and commit README.md.\n" + diff)
+    return False, (f"claims: {name}'s claims table differs from what plots/claims.py makes of results/reference/; "
+                   f"run `make claims` and commit {name}.\n" + diff)
+
+
+def shown(path):
+    """The page's path as a reader names it: relative to the repository where it lies inside."""
+    try:
+        return str(path.resolve().relative_to(REPO))
+    except ValueError:
+        return str(path)
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(prog="claims.py", description=__doc__.split("\n\n")[0])
-    p.add_argument("--write-readme", action="store_true", help="write the table into README.md between the markers")
-    p.add_argument("--check", action="store_true", help="exit 1 when README.md's table differs")
-    p.add_argument("--readme", type=Path, default=REPO / "README.md")
+    p.add_argument("--write", action="store_true", help="write the table into the page (--doc) between the markers")
+    p.add_argument("--check", action="store_true", help="exit 1 when the page's table differs")
+    p.add_argument("--doc", type=Path, default=DOC, help="the page that holds the table (default: docs/results.md)")
     p.add_argument("--reference", type=Path, default=REFERENCE)
     args = p.parse_args(argv)
     generated, hist = table(args.reference)
     if args.check:
-        ok, message = check(args.readme.read_text(), generated, hist)
+        ok, message = check(args.doc.read_text(), generated, hist, shown(args.doc))
         print(message)
         return 0 if ok else 1
-    if args.write_readme:
-        text = args.readme.read_text()
-        readme_block(text)  # the markers must be there
+    if args.write:
+        text = args.doc.read_text()
+        doc_block(text, shown(args.doc))  # the markers must be there
         head, rest = text.split(BEGIN, 1)
         new = head + BEGIN + "\n" + generated + END + rest.split(END, 1)[1]
         if new != text:
-            args.readme.write_text(new)
-            print(f"claims: wrote the table into {args.readme.name}")
+            args.doc.write_text(new)
+            print(f"claims: wrote the table into {shown(args.doc)}")
         else:
-            print(f"claims: {args.readme.name} is up to date")
+            print(f"claims: {shown(args.doc)} is up to date")
         return 0
     sys.stdout.write(generated)
     return 0

@@ -143,7 +143,7 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
     domain_ = std::make_unique<SlabDomain>(grid_.view, n, options_.search.cells_per_support, options_.balancer, all,
                                            ranks, options_.overlap);
     const SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel, options_.diffusion && scene_.params.delta > 0,
-                              options_.search};
+                              options_.search, false, options_.variants};
     // One subdomain holds everything; a slab needs room for what balancing gives it, plus ghosts.
     const std::size_t capacity = n == 1 ? all.size() : all.size() + all.size() / 4 + 1024;
     // One subdomain uploads `all` itself (no copy of a large scene).

@@ -49,6 +49,9 @@ struct SolverOptions {
     // particles are bitwise the same either way.
     bool overlap = true;
     SearchOptions search;
+    // How the CUDA backend runs the search's phases (fallbacks, kept selectable to test and
+    // time them); the physics is the same either way.
+    ImplementationVariants variants;
     double cfl = 0;       // 0: the scene's
     double fixed_dt = 0;  // > 0: a fixed step (benchmarks), no CFL
     // Every k-th step of the Verlet scheme is an Euler step (DualSPHysics's VerletSteps, 40):

@@ -23,6 +23,7 @@ inline int sphbench(std::vector<std::string> args, std::string* message = nullpt
     add_run_command(app, ctx);
     add_info_command(app, ctx);
     add_compare_command(app, ctx);
+    add_stability_command(app, ctx);
     std::string refused;
     int code = -1;
     try {

@@ -2,8 +2,11 @@
 // GPU, so CI (which has none) skips it; run it on a GPU machine with tools/gpu-run.sh.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "multi/rank_staging.hpp"
 #include "test_support.hpp"
@@ -70,18 +73,41 @@ TEST(CudaBackend, PinnedRankStagingCarriesPiecesBitwise) {
                      after, before.size()));
 }
 
-TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
+// Each implementation variant (backend/implementation_variants.hpp) against the host reference:
+// the default, then every other value of each variant with the rest at their defaults.
+struct VariantCase {
+    std::string label;
+    ImplementationVariants variants;
+};
+
+std::vector<VariantCase> variant_cases() {
+    std::vector<VariantCase> cases = {{"defaults", {}}};
+    for (const ImplementationVariant& e : implementation_variant_registry())
+        for (const std::string& value : e.values) {
+            if (value == e.fallback()) continue;
+            VariantCase c{std::string(e.name) + "_" + value, {}};
+            std::replace(c.label.begin(), c.label.end(), '-', '_');
+            set_implementation_variant(c.variants, e.name, value);
+            cases.push_back(c);
+        }
+    return cases;
+}
+
+class CudaVariants : public ::testing::TestWithParam<VariantCase> {};
+
+TEST_P(CudaVariants, MatchTheHostBackendAfterNSteps) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
     const Scene s = test::small_dambreak("0.02");
     // Then Verlet lists (the listed loop; on the GPU a wall lists fluid only, and the entries
-    // carry the rebuild's cell offsets), built on cells of the support, on merged half cells and
-    // on merged thirds (the widest stencil those entries take).
+    // carry the rebuild's cell offsets unless list_entries = plain), built on cells of the
+    // support, on merged half cells and on merged thirds (the widest stencil those entries take).
     for (const SearchOptions search : {SearchOptions{1, false}, SearchOptions{2, true}, SearchOptions{1, false, true},
                                        SearchOptions{2, true, true}, SearchOptions{3, true, true}}) {
         SolverOptions host, cuda;
         host.search = cuda.search = search;
         host.fixed_dt = cuda.fixed_dt = 1.4e-4;  // the scene's CFL step
         cuda.backend = BackendKind::cuda;
+        cuda.variants = GetParam().variants;
         Simulation a(s, host), b(s, cuda);
         const int steps = 400;
         test::step_both(a, b, steps);
@@ -89,13 +115,43 @@ TEST(CudaBackend, MatchesTheHostBackendAfterNSteps) {
         const double worst = test::largest_fluid_difference(pa, pb, s.n_boundary);
         const double moved = test::largest_fluid_difference(s.position, pa, s.n_boundary);
         // Same summation order on both; only fused multiply-adds on the GPU round differently.
-        std::printf("cuda vs host, n = %d, merge = %d, verlet = %d, %d steps: largest position difference %.3g dp "
-                    "(largest displacement %.3g dp)\n",
-                    search.cells_per_support, int(search.merge), int(search.verlet), steps, worst / s.dp, moved / s.dp);
+        std::printf("cuda vs host, n = %d, merge = %d, verlet = %d, %d steps (%s): largest position difference %.3g "
+                    "dp (largest displacement %.3g dp)\n",
+                    search.cells_per_support, int(search.merge), int(search.verlet), steps,
+                    describe_implementation_variants(cuda.variants).c_str(), worst / s.dp, moved / s.dp);
         EXPECT_GT(moved, 0.1 * s.dp);
         EXPECT_LT(worst, 1e-3 * s.dp);
     }
 }
+
+// A variant that changes only how the GPU stores the same lists gives the default's particles
+// bit for bit: list_build = per-lane builds the same entries in the same order (change 9 of
+// docs/force-loop-notes.md: 3000 steps the same to the bit).
+TEST_P(CudaVariants, ThatKeepTheListsMatchTheDefaultBitwise) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const ImplementationVariants v = GetParam().variants;
+    if (v == ImplementationVariants{} || v.list_build == ListBuildVariant::automatic)
+        GTEST_SKIP() << "checked for variants that build the same lists another way (list_build)";
+    const Scene s = test::small_dambreak("0.02");
+    for (const SearchOptions search : {SearchOptions{1, false, true}, SearchOptions{2, true, true}}) {
+        SolverOptions base, variant;
+        base.backend = variant.backend = BackendKind::cuda;
+        base.search = variant.search = search;
+        base.fixed_dt = variant.fixed_dt = 1.4e-4;
+        variant.variants = v;
+        Simulation a(s, base), b(s, variant);
+        test::step_both(a, b, 200);
+        const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+        std::printf("cuda, %s against the defaults, n = %d, merge = %d, Verlet lists, 200 steps: %zu particles differ\n",
+                    describe_implementation_variants(v).c_str(), search.cells_per_support, int(search.merge), differ);
+        EXPECT_EQ(differ, 0u);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, CudaVariants, ::testing::ValuesIn(variant_cases()),
+                         [](const auto& info) { return info.param.label; });
 
 // The gauge kernels (cuda_gauges.cu) against the host's loops on the same run: a collapsing
 // column read by every kind of gauge, with the cell search and with Verlet lists (particles

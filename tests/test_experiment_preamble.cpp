@@ -116,6 +116,9 @@ TEST_F(PreambleTest, RunsTableCellsComeFromTheirColumns) {
         s.subdomain_ms = {s.phase_ms};
         r.steps.push_back(s);
     }
+    r.steps_taken = 3;
+    r.sim_time = r.steps.back().time;
+    r.wall_seconds = 0.6;
     for (const auto& c : tank->summary_columns) r.validation_summary.emplace_back(c, 0.5);
     auto cell = [&](const PlannedRun& run, const std::string& column) {
         const std::vector<std::string> cells = table.cells(RunsRow(run, r, "x_steps.csv"));
@@ -128,6 +131,12 @@ TEST_F(PreambleTest, RunsTableCellsComeFromTheirColumns) {
     EXPECT_EQ(cell(runs[0], "forces_ms_median"), "2");
     EXPECT_EQ(cell(runs[0], "step_ms_min"), "1");
     EXPECT_EQ(cell(runs[0], "sim_time"), "0.03");
+    EXPECT_EQ(cell(runs[0], "steps"), "3");
+    EXPECT_EQ(cell(runs[0], "window_steps"), "3");
+    EXPECT_EQ(cell(runs[0], "s_per_sim_s"), format_number(0.6 / 0.03));
+    EXPECT_EQ(cell(runs[0], "end_time"), "");          // no end time asked
+    EXPECT_EQ(cell(runs[2], "end_time"), "0.02");      // its validation's end time is the run's
+    EXPECT_EQ(cell(runs[0], "list_rebuilds"), "");     // no Verlet lists
     EXPECT_EQ(cell(runs[0], "set.dp"), "");  // another run's option
     EXPECT_EQ(cell(runs[2], "set.dp"), "0.05");
     EXPECT_EQ(cell(runs[0], "steps_file"), "x_steps.csv");

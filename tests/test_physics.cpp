@@ -25,8 +25,8 @@ double wendland_grad_factor(double r, double h) {
 // viscosity, density diffusion with its hydrostatic correction) the previous step's: the two
 // are drawn independently here, so a term reading the wrong one shows.
 // Run on the host (the simple loop) and on the GPU with two searches (the gathered force
-// loop of cuda_kernels.cu, with its approximate division and square root), skipped without
-// a GPU. The printed errors are the figures bench/FORCE_LOOP_NOTES.md reports.
+// loop of cuda_cell_forces.cu, with its approximate division and square root), skipped without
+// a GPU. The printed errors are the figures docs/force-loop-notes.md reports.
 struct ForceCase {
     BackendKind backend;
     int n;

@@ -193,7 +193,7 @@ TEST_F(SpecTest, BadInputIsRefusedWithFileLineAndKey) {
     EXPECT_NE(msg.find("runs"), std::string::npos) << msg;
     // The example message of the issue: the known keys are listed.
     msg = error_of(head + "[[runs]]\nscene = \"tank\"\nstepz = 3\n");
-    EXPECT_NE(msg.find("unknown key 'stepz' in [[runs]] (known: scene, label, set, solver, validation)"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("unknown key 'stepz' in [[runs]] (known: scene, label, steps, end_time, set, solver, validation)"), std::string::npos) << msg;
 }
 
 TEST_F(SpecTest, MissingFileIsAnInputError) {

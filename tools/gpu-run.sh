@@ -8,11 +8,22 @@
 #                                    F64=1 adds the float64 sphbench (build-gpu-f64/)
 #   tools/gpu-run.sh exec CMD ...    on the GPU machine, in the repository root: run CMD with
 #                                    .carry/bin on PATH, its libraries and meshes found
+#   tools/gpu-run.sh --help          this text
 #
-# Example (the figures of the README were made this way):
+# Example (the GPU results of docs/results.md were made this way):
 #   tools/gpu-run.sh pack
 #   # ... copy the working tree with .carry/ to the GPU machine, then there:
 #   tools/gpu-run.sh exec sphbench simulate dsph-dambreak --steps 200 --backend cuda
+#   tools/gpu-run.sh exec sph_tests --gtest_filter='CudaBackend.*'
+#
+# All reference results on a machine lent for commands of at most 10 minutes (`make reference`;
+# `python3 tools/reference.py --help` says more):
+#   F64=1 tools/gpu-run.sh pack      here, once
+#   there, per command (carry .carry/; stops before its budget, resumes on the next call):
+#     REFERENCE_BUDGET_S=480 tools/gpu-run.sh exec python3 tools/reference.py
+#   here, after each command: tar -xzf reference.tar.gz (from $OUT), then call again until it
+#   prints "nothing left to run"; then `make claims` and commit results/reference/ and
+#   docs/results.md. More: docs/gpu-machines.md.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CARRY=.carry
@@ -56,8 +67,13 @@ exec)
   export NCCL_NVLS_ENABLE=0  # never NVLink multicast on shared machines
   "$@"
   ;;
+-h|--help|help)
+  sed -n '2,/^[^#]/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'
+  ;;
 *)
-  sed -n '2,16p' "$0"
+  sed -n '2,/^[^#]/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//' >&2
+  if [ -z "${1:-}" ]; then echo "gpu-run: no command given; use pack or exec" >&2
+  else echo "gpu-run: unknown command '$1'; use pack or exec" >&2; fi
   exit 2
   ;;
 esac

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The GPU runs behind results/reference/<gpu>/ and the README's figures, in one command for a
+# The GPU runs behind results/reference/<gpu>/ and the figures of docs/results.md, in one command for a
 # GPU machine (through tools/gpu-run.sh exec). Writes everything under $1 (default results/gpu).
 # `make reference` (tools/reference.py) now runs single, accuracy and multi, resumably, into
 # results/reference/<gpu>[-xN]/; this script keeps the force loop's before/after (forceloop).
@@ -23,7 +23,7 @@ export NCCL_NVLS_ENABLE=0
 case "${1:-single}" in
 single)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
-  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*' 2>&1 | grep -E 'cuda vs host|OK|FAILED|PASSED' | tee "$out/cuda_vs_host.txt"
+  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*:*CudaVariants*' 2>&1 | grep -E 'cuda vs host|OK|FAILED|PASSED' | tee "$out/cuda_vs_host.txt"
   for args in "dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2" \
               "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2" \
               "armadillo --set particles=2980000" "armadillo --set particles=2980000 --merge --cells-per-support 2"; do
@@ -42,7 +42,7 @@ single)
   ;;
 accuracy)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
-  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*' >"$out/cuda_tests.log" 2>&1
+  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*:*CudaVariants*' >"$out/cuda_tests.log" 2>&1
   ok=$?
   grep -E 'cuda |OK|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_vs_host.txt"
   [ $ok -eq 0 ] || { echo "reference-runs: the CUDA tests failed; not running the studies"; exit 1; }
@@ -55,7 +55,7 @@ accuracy)
   ;;
 forceloop)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
-  sph_tests --gtest_filter='*Forces.*:CudaBackend.*:*CudaTransports*:*StencilFluidCells*' >"$out/cuda_tests.log" 2>&1
+  sph_tests --gtest_filter='*Forces.*:CudaBackend.*:*CudaTransports*:*CudaVariants*:*StencilFluidCells*' >"$out/cuda_tests.log" 2>&1
   grep -E 'cuda |forces against|OK \]|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_tests.txt"
   cases=("dsph-dambreak" "dsph-dambreak --set kernel=wendland --cells-per-support 2"
          "dsph-dambreak --set dp=0.0028" "dsph-dambreak --set dp=0.0028 --set kernel=wendland --cells-per-support 2"
@@ -102,7 +102,7 @@ forceloop)
 multi)
   nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv | tee "$out/gpu.txt"
   nvidia-smi topo -m | tee "$out/topology.txt"
-  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*' >"$out/cuda_tests.log" 2>&1
+  sph_tests --gtest_filter='CudaBackend.*:*CudaTransports*:*CudaVariants*' >"$out/cuda_tests.log" 2>&1
   ok=$?
   grep -E 'cuda |OK|FAILED|PASSED' "$out/cuda_tests.log" | tee "$out/cuda_vs_host.txt"
   [ $ok -eq 0 ] || { echo "reference-runs: the CUDA tests failed; not running the experiment"; exit 1; }

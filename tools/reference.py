@@ -69,7 +69,7 @@ BENCHMARK_CASES = [
     "armadillo --set particles=2980000",
     "armadillo --set particles=2980000 --merge --cells-per-support 2",
     # Verlet lists on half-size cells with a skin of 0.05 supports: the fastest setting measured
-    # (bench/FORCE_LOOP_NOTES.md, change 8); the claims table compares them with DualSPHysics too.
+    # (docs/force-loop-notes.md, change 8); the claims table compares them with DualSPHysics too.
     "dsph-dambreak --verlet --cells-per-support 2 --skin 0.05",
     "dsph-dambreak --set kernel=wendland --verlet --cells-per-support 2 --skin 0.05",
     "dsph-dambreak --set dp=0.0028 --verlet --cells-per-support 2 --skin 0.05",
@@ -77,7 +77,7 @@ BENCHMARK_CASES = [
     "armadillo --set particles=2980000 --verlet --cells-per-support 2 --skin 0.05",
 ]
 CALIBRATION_CASES = ["armadillo --set particles=2980000", "bunny --set particles=3049000", "dsph-dambreak"]
-CUDA_TEST_FILTER = "*Forces.*:CudaBackend.*:*CudaTransports*:*StencilFluidCells*"
+CUDA_TEST_FILTER = "*Forces.*:CudaBackend.*:*CudaTransports*:*CudaVariants*:*StencilFluidCells*"
 STABILITY_STUDIES = ["stability-cfl", "stability-still-water", "stability-impact", "stability-armadillo"]
 
 
@@ -524,10 +524,23 @@ def archive(dirs, target):
 # --------------------------------------------------------------------------------------------
 
 
+# What --help ends with: the lease loop on a borrowed GPU machine (docs/gpu-machines.md has it all).
+LEASE_STEPS = """On a borrowed GPU machine (commands of at most 10 minutes, 64 MiB carried, few files back):
+  here, once:         F64=1 tools/gpu-run.sh pack            (.carry/: binaries, libraries, meshes)
+                      python3 tools/reference.py --pack-dsph (.dsph/: DualSPHysics' anchor, xz)
+  there, per command: DSPH=$PWD/.dsph REFERENCE_BUDGET_S=480 \\
+                        tools/gpu-run.sh exec python3 tools/reference.py   (carry .carry and .dsph)
+  here, after each:   tar -xzf <what came back>/reference.tar.gz   (the results so far, over the tree)
+Repeat until it prints "nothing left to run"; then `make claims` and commit results/reference/ with
+docs/results.md. Too large to carry together? Run REFERENCE_ONLY=dualsphysics in a call of its own
+carrying .dsph alone. On several GPUs, REFERENCE_ONLY="multi-gpu fig10 figures-multi".
+PLAN=1 (or --dry-run) prints the plan and its estimate anywhere; --list names the items."""
+
+
 def parse_args(argv):
     env_list = lambda v: [x for x in re.split(r"[\s,]+", os.environ.get(v, "")) if x]  # noqa: E731
     p = argparse.ArgumentParser(prog="tools/reference.py", description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+                                epilog=LEASE_STEPS, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--dry-run", action="store_true", default=os.environ.get("PLAN", "") not in ("", "0"),
                    help="print the plan and its estimate; run nothing (PLAN=1)")
     budget = os.environ.get("REFERENCE_BUDGET_S")

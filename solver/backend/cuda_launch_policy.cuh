@@ -1,8 +1,10 @@
 #pragma once
 // Launch choices of the CUDA kernels, kept apart from the kernels (CUB's tuning policies):
 // block sizes, per GPU architecture. A kernel reads its policy as a template argument; the
-// driver functions pick the policy for the GPU.
-// Measured choices and their log: bench/FORCE_LOOP_NOTES.md.
+// driver functions pick the policy for the GPU. The fallbacks a run may ask for instead of a
+// policy's choice are the registry of implementation_variants.hpp, beside this one.
+// Measured choices and their log: docs/force-loop-notes.md (choices measured slower are in
+// git history, listed in its section "The variant registry").
 namespace sph::gpu {
 
 // The plain per-particle kernels (sort keys, gathers, advance, statistics).
@@ -10,38 +12,26 @@ struct ElementwisePolicy {
     static constexpr int block_size = 128;
 };
 
-// Whether the force loop takes stencil ranges through add_range_by_hit_masks (test 32
-// candidates, then each lane's pair bodies) or candidate by candidate. 2 (the default) is the
-// choice per search measured on an H200 (bench/FORCE_LOOP_NOTES.md, change 6); 0 and 1 force
-// one way for every search at compile time, to time both on one GPU.
-#ifndef SPH_FORCE_HIT_MASKS
-#define SPH_FORCE_HIT_MASKS 2
-#endif
-
-// Whether the force loop queues each warp's pairs and runs the body on full batches of 32
-// (forces_compacted_kernel, cuda_pair_queue.cuh) or runs it per thread (forces_kernel). 2 (the
-// default) is the choice per search measured on an H200 (bench/FORCE_LOOP_NOTES.md, change 7);
-// 1 compacts for every search and 0 never (SPH_FORCE_LOOP=per-thread at run time also
-// forces the per-thread loop, to time both on one build).
-#ifndef SPH_FORCE_COMPACT
-#define SPH_FORCE_COMPACT 2
-#endif
-
-// The force loop (cuda_kernels.cu, forces_kernel and forces_compacted_kernel): one thread per particle.
+// The force loop (cuda_cell_forces.cu, forces_kernel and forces_compacted_kernel): one thread
+// per particle.
 struct ForceLoopPolicySm90 {
     static constexpr int block_size = 128;
-    // Measured: compacting wins on cells of the support (the body ran at 15 of 32 lanes:
-    // -12% a step on the dam break), and loses 8-20% on smaller cells, where the per-thread
-    // loop's hit masks already keep 22 of 32 lanes busy and the queue's pushes and drains
-    // cost more than the idle lanes did.
+    // Whether the loop queues each warp's pairs and runs the body on full batches of 32
+    // (forces_compacted_kernel, cuda_pair_queue.cuh) or runs it per thread (forces_kernel).
+    // Measured (change 7): compacting wins on cells of the support (the body ran at 15 of 32
+    // lanes: -12% a step on the dam break), and loses 8-20% on smaller cells, where the
+    // per-thread loop's hit masks already keep 22 of 32 lanes busy and the queue's pushes and
+    // drains cost more than the idle lanes did. The variant force_loop = per-thread runs the
+    // per-thread loop everywhere.
     template <class Search>
-    static constexpr bool compacted = SPH_FORCE_COMPACT == 2 ? Search::n == 1 : SPH_FORCE_COMPACT != 0;
-    // Measured: masks win on cells of the support (3-6%) and on merged runs of smaller cells
-    // (7-10%); they lose 6% on smaller cells without merging (ranges of ~5 candidates) and 1%
-    // on merged runs of cells of the support.
+    static constexpr bool compacted = Search::n == 1;
+    // Whether the per-thread loop takes stencil ranges through add_range_by_hit_masks (test 32
+    // candidates, then each lane's pair bodies) or candidate by candidate. Measured (change 6):
+    // masks win on cells of the support (3-6%) and on merged runs of smaller cells (7-10%);
+    // they lose 6% on smaller cells without merging (ranges of ~5 candidates) and 1% on merged
+    // runs of cells of the support.
     template <class Search>
-    static constexpr bool hit_masks = SPH_FORCE_HIT_MASKS == 2 ? (Search::n == 1) != Search::merge
-                                                               : SPH_FORCE_HIT_MASKS != 0;
+    static constexpr bool hit_masks = (Search::n == 1) != Search::merge;
 };
 
 // The listed loop (Verlet lists, forces_listed_kernel): one thread per particle. The members
@@ -65,15 +55,9 @@ struct ListedLoopPolicySm90 {
     // where the lists carry cell offsets (gpu::lists_take_cell_offsets).
     static constexpr bool entry_offsets = false;
     // The lists built with a warp's lanes walking their stencils in step
-    // (build_lists_in_step_kernel), so that a warp's rows are stored together.
+    // (build_lists_in_step_kernel), so that a warp's rows are stored together (change 9). The
+    // variant list_build = per-lane builds them lane by lane.
     static constexpr bool build_in_step = true;
-};
-// Variants that SPH_LISTED_POLICY names at run time, to time them on one build.
-struct ListedLoopNoLookahead : ListedLoopPolicySm90 {  // "no-lookahead"
-    static constexpr int index_lookahead = 0;
-};
-struct ListedLoopSplitLoads : ListedLoopPolicySm90 {  // "split-loads": as nvcc places them
-    static constexpr bool whole_loads = false;
 };
 
 // One architecture is tuned today (the build targets sm_90); a second one gets its own

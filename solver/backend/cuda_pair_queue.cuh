@@ -1,5 +1,5 @@
 #pragma once
-// A warp's queue of neighbour pairs (the force loop's compacted form, cuda_kernels.cu): the
+// A warp's queue of neighbour pairs (the force loop's compacted form, cuda_cell_forces.cu): the
 // lanes test candidates of their own particles, push the pairs inside the support, and every
 // 32 queued pairs the warp evaluates the pair body with all 32 lanes busy, one pair each,
 // whichever particle the pairs belong to. Each particle's terms then go back to its own lane,
@@ -8,7 +8,7 @@
 //
 // Why: in the per-thread loop a warp runs the body as often as its busiest lane needs, and
 // the lanes' neighbours overlap so little chunk by chunk that about 15 of 32 lanes do work
-// (bench/FORCE_LOOP_NOTES.md, change 7).
+// (docs/force-loop-notes.md, change 7).
 //
 // The queue is a ring of 64 entries in shared memory: a push round adds at most one pair per
 // lane (32) and the warp drains whenever 32 are waiting, so at most 63 are ever held. An
@@ -16,11 +16,10 @@
 // range it came from: the drain forms the separation from them as the test did.
 #include <cstdint>
 
+#include "backend/cuda_launch.cuh"
 #include "physics/interaction.hpp"
 
 namespace sph::gpu {
-
-constexpr unsigned full_warp = 0xffffffffu;
 
 struct PairQueueStorage {
     static constexpr unsigned capacity = 64;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/implementation_variants.hpp"
 #include "backend/phase.hpp"
 #include "core/params.hpp"
 #include "core/smoothing_kernels.hpp"
@@ -53,6 +54,7 @@ struct SubdomainConfig {
     bool diffusion = true;
     SearchOptions search;
     bool integrate_boundary = false;  // true only to measure what skipping it saves (skip_bench)
+    ImplementationVariants variants{};  // how the CUDA drivers run the phases (implementation_variants.hpp)
 };
 
 struct WorkCounters {

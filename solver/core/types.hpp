@@ -84,7 +84,7 @@ SPH_HD real3 add_uncontracted(real3 a, real3 b) {
 // (physics/interaction.hpp) reads j's position and velocity-density before the support test;
 // left to itself, nvcc loaded only the density there, then the whole velocity-density and the
 // pressure again behind the test: three gathers of a neighbour's data where two do, in a loop
-// bound by the L1's throughput (ncu, change 10 of bench/FORCE_LOOP_NOTES.md). One asm
+// bound by the L1's throughput (ncu, change 10 of docs/force-loop-notes.md). One asm
 // statement yields all four components at once, so the compiler cannot split the load, nor
 // sink it behind a test that reads one of them; not volatile, so that it stays a read-only
 // (.nc) load like the loop's others. The host reads a[k] plainly.

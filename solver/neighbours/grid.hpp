@@ -71,7 +71,7 @@ inline bool fits_cell_coords(const GridView& g) {
 // stay the cells of the last rebuild and build_frame[i] is particle i's position against that
 // cell (w: P / rho^2, as in pos): a list whose entries carry the cell offsets of the rebuild
 // (ListEntry) then gives each pair's separation without reading j's cell (change 12 of
-// bench/FORCE_LOOP_NOTES.md).
+// docs/force-loop-notes.md).
 struct KeptCells {
     CellCoords* coords = nullptr;
     real4* build_frame = nullptr;

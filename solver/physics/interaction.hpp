@@ -120,7 +120,7 @@ struct PairBody {
 
 // One particle's totals, summed pair by pair in visiting order. A wall particle's sums are
 // the same bits whichever GPU loop computed its terms (add_uncontracted), since a run can
-// take a wall particle through either, warp by warp (cuda_kernels.cu, forces_compacted_kernel);
+// take a wall particle through either, warp by warp (cuda_cell_forces.cu, forces_compacted_kernel);
 // a fluid particle goes through one loop in a run, where the sum may fuse with the terms'
 // last products (that fusion is 2-4% of the per-thread loop on an H200).
 struct PairTotals {

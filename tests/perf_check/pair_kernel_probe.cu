@@ -1,6 +1,7 @@
-// Probe kernels for the perf-check tests: the force loops of cuda_kernels.cu (cell search and
-// stored list) on the real pair body, with the stand-ins of pair_probe.hpp. Compiled, never run:
-// the tests read what the compiler made of them with tools/perf_check.py kernels.
+// Probe kernels for the perf-check tests: the force loops of cuda_cell_forces.cu (cell search)
+// and cuda_neighbour_lists.cu (stored list) on the real pair body, with the stand-ins of
+// pair_probe.hpp. Compiled, never run: the tests read what the compiler made of them with
+// tools/perf_check.py kernels.
 #include "backend/cuda_launch_policy.cuh"
 #include "pair_probe.hpp"
 

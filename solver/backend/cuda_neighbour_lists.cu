@@ -1,0 +1,215 @@
+// Verlet lists: the rebuild's kernels (each particle's cell coordinates and build frame, the
+// lists built lane by lane or with a warp's lanes in step), the longest list (CUB), and the
+// listed force loop. Launch choices come from cuda_launch_policy.cuh, the variants from
+// SubdomainConfig::variants.
+#include <cub/device/device_reduce.cuh>
+
+#include "backend/cuda_check.cuh"
+#include "backend/cuda_neighbour_lists.cuh"
+#include "physics/dispatch.hpp"
+#include "physics/integration.hpp"
+
+namespace sph::gpu {
+namespace {
+
+constexpr int block_size = ElementwisePolicy::block_size;
+
+template <class Search, bool CellOffsets>
+__global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in, real reach2, std::uint32_t* index,
+                                                                 std::uint32_t* count, std::uint32_t stride,
+                                                                 std::uint32_t capacity, ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= *range.end) return;
+    count[i] = build_particle_list<Search, CellOffsets>(i, in, reach2, index, stride, capacity);
+}
+
+// The listed loop: one thread per particle over its stored list, cells read as coordinates.
+// The same lists, built with a warp's lanes walking their stencils in step
+// (visit_ranges_in_step, as forces_compacted_kernel) and their rows stored together: each
+// lane keeps its newest entries in shared memory (a ring of list_stage_rows rows), and after
+// every range the warp stores the rows that all its lanes have filled, 128 coalesced bytes a
+// row. Stored lane by lane (build_lists_kernel), each 4-byte entry went to DRAM as a
+// partly written 32-byte sector: 6.8 GB moved for a 0.8 GB list on the dam break, ~6.5 of a
+// rebuild's 8.2 ms (docs/force-loop-notes.md, change 9). A lane more than list_stage_rows ahead of
+// the warp's slowest stores the rest of its list itself, and walls store theirs from the start.
+// The same candidates in the same order (the StepwiseRanges test), so the same lists; not for
+// merged runs across a periodic z face, which come in pieces (the driver keeps the other
+// kernel there). CellOffsets stores ListEntry codes, as build_particle_list.
+constexpr std::uint32_t list_stage_rows = 32;  // 16 KB a block: 46 registers, not shared memory, then bound the occupancy
+
+template <class Search, bool CellOffsets>
+__global__ void __launch_bounds__(block_size)
+    build_lists_in_step_kernel(ForceInputs in, real reach2, std::uint32_t* index, std::uint32_t* count,
+                               std::uint32_t stride, std::uint32_t capacity, ActiveRange range) {
+    __shared__ std::uint32_t stage[block_size / 32][list_stage_rows][32];
+    const std::uint32_t end = *range.end;
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    const std::uint32_t lane = threadIdx.x % 32, first = i - lane;
+    if (first >= end) return;  // the whole warp is past the end
+    const bool valid = i < end;
+    const std::uint32_t me = valid ? i : end - 1;  // a lane past the end walks nothing
+    auto& ring = stage[threadIdx.x / 32];
+    const real4 pos_i = in.pos[me];
+    const bool fluid_i = !is_boundary(in.velrho[me]);
+    const GridView& g = in.grid;
+    // A wall lists fluid only (build_particle_list): a cell's range starts at its fluid, a
+    // merged run holds each cell's walls, which the test drops.
+    const bool walls_out = Search::merge && !fluid_i;
+    std::uint32_t n = 0;                    // this lane's entries so far
+    std::uint32_t stored = 0;               // rows [0, stored) of every staging lane are in index (warp-uniform)
+    // This lane stores its rows from here on itself. A wall lists fluid only, a few entries
+    // where the fluid lanes of its warp list ~200: it stores its own from the start and does not
+    // count in the warp's filled rows. The expected gain (fluid lanes no longer running past the
+    // ring behind a wall) did not show: the build took the same time either way (change 9).
+    std::uint32_t direct = valid && fluid_i ? 0xffffffffu : 0u;
+    const bool staging = direct != 0;
+    // Rows [stored, up_to) of every lane that staged them, into index.
+    const auto store_rows = [&](std::uint32_t up_to) {
+        const std::uint32_t mine = min(min(n, direct), capacity);
+        for (std::uint32_t r = stored; r < up_to; ++r)
+            if (valid && r < mine) index[std::size_t(r) * stride + i] = ring[r % list_stage_rows][lane];
+        stored = up_to;
+    };
+    Search::visit_ranges_in_step(
+        g, in.cell_start, in.fluid_begin, g.decode(in.cell[me]), valid, !fluid_i,
+        [&](std::uint32_t b, std::uint32_t e, int dx, int dy, typename Search::RangeZ z) {
+            for (std::uint32_t j = b; j < e; ++j) {
+                const int dz = z.of(in.cell, j);
+                const real3 rij = separation(pos_i, in.pos[j], dx, dy, dz, g.cell_size);
+                if (j == me || dot(rij, rij) >= reach2 || (walls_out && is_boundary(in.velrho[j]))) continue;
+                if (n < capacity) {
+                    const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, dx, dy, dz) : j;
+                    if (n >= direct || n - stored >= list_stage_rows) {
+                        if (direct == 0xffffffffu) direct = n;
+                        index[std::size_t(n) * stride + i] = entry;
+                    } else {
+                        ring[n % list_stage_rows][lane] = entry;
+                    }
+                }
+                ++n;
+            }
+            const std::uint32_t filled = __reduce_min_sync(full_warp, staging ? n : 0xffffffffu);
+            if (filled != 0xffffffffu) store_rows(filled);  // no lane of the warp stages: nothing to store
+        });
+    store_rows(__reduce_max_sync(full_warp, staging ? min(min(n, direct), capacity) : 0u));
+    if (valid) count[i] = n;
+}
+
+template <class Kernel, bool Diffusion, class Policy>
+__global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
+    forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p, real4* __restrict__ force,
+                         ActiveRange range) {
+    const std::uint32_t i = *range.begin + blockIdx.x * Policy::block_size + threadIdx.x;
+    if (i >= *range.end) return;
+    if (in.cell[i] >= in.grid.out_of_domain()) {  // left the domain since the last rebuild
+        force[i] = real4{0, 0, 0, 0};
+        return;
+    }
+    const Kernel kernel(p.h);
+    force[i] = particle_force_listed<Kernel, Diffusion, Policy>(i, in, list, p, kernel);
+}
+
+__global__ void cell_coords_kernel(const std::uint32_t* cell, const real4* pos, KeptCells kept, GridView g,
+                                   std::uint32_t n) {
+    const std::uint32_t i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    const std::uint32_t c = cell[i];
+    const bool inside = c < g.out_of_domain();
+    kept.coords[i] = pack_cell_coords(g.decode(c), inside);
+    if (kept.build_frame)
+        kept.build_frame[i] = inside ? pos[i] : real4{real(1e15), real(1e15), real(1e15), pos[i].w};
+}
+
+}  // namespace
+
+// list_entries = plain keeps the plain entries where cell offsets would fit: the layout of
+// periodic grids, wide stencils and large subdomains, selectable to test it on any grid.
+bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n) {
+    return cfg.variants.list_entries == ListEntriesVariant::automatic && !cfg.grid.any_periodic() &&
+           ListEntry::fits(n, cfg.search.cells_per_support);
+}
+
+// list_build = per-lane builds lane by lane (build_lists_kernel) where the policy walks in
+// step: the build merged z-runs across a periodic z face need, selectable to test it anywhere.
+template <class Search, bool CellOffsets>
+void launch_list_build(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
+                       std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, ActiveRange range,
+                       std::uint32_t n, cudaStream_t s) {
+    const bool in_step = ListedLoopPolicy::build_in_step && cfg.variants.list_build == ListBuildVariant::automatic;
+    if (in_step && !(Search::merge && in.grid.periodic_z))
+        build_lists_in_step_kernel<Search, CellOffsets>
+            <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
+    else
+        build_lists_kernel<Search, CellOffsets>
+            <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
+}
+
+void build_neighbour_lists(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
+                           std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, bool cell_offsets,
+                           ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    SPH_CUDA_CHECK(cudaMemsetAsync(count, 0, std::size_t(n) * sizeof(std::uint32_t), s));
+    if (n == 0) return;
+    dispatch_search(cfg.search, [&](auto srch) {
+        using Search = typename decltype(srch)::type;
+        if constexpr (Search::n <= ListEntry::reach_cells) {
+            if (cell_offsets) {
+                launch_list_build<Search, true>(cfg, in, reach2, index, count, stride, capacity, range, n, s);
+                return;
+            }
+        }
+        if (cell_offsets) throw RunError("lists with cell offsets need a stencil of at most 3 cells a side");
+        launch_list_build<Search, false>(cfg, in, reach2, index, count, stride, capacity, range, n, s);
+    });
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+std::size_t longest_list_temp_bytes(std::uint32_t n) {
+    std::size_t bytes = 0;
+    SPH_CUDA_CHECK(cub::DeviceReduce::Max(nullptr, bytes, static_cast<const std::uint32_t*>(nullptr),
+                                          static_cast<std::uint32_t*>(nullptr), n));
+    return bytes;
+}
+
+std::uint32_t longest_list(const std::uint32_t* count, std::uint32_t n, void* temp, std::size_t temp_bytes,
+                           std::uint32_t* out, cudaStream_t s) {
+    SPH_CUDA_CHECK(cub::DeviceReduce::Max(temp, temp_bytes, count, out, n, s));
+    std::uint32_t longest = 0;
+    SPH_CUDA_CHECK(cudaMemcpyAsync(&longest, out, sizeof longest, cudaMemcpyDeviceToHost, s));
+    SPH_CUDA_CHECK(cudaStreamSynchronize(s));
+    return longest;
+}
+
+template <class Policy>
+void launch_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
+                          ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
+        using Kernel = typename decltype(k)::type;
+        forces_listed_kernel<Kernel, decltype(diffusion)::value, Policy>
+            <<<blocks_for<Policy::block_size>(n), Policy::block_size, 0, s>>>(in, list, cfg.params, force, range);
+    });
+}
+
+template <class Policy>
+void launch_forces_listed_layout(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list,
+                                 real4* force, ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    if (list.cell_offsets) launch_forces_listed<WithEntryOffsets<Policy>>(cfg, in, list, force, range, n, s);
+    else launch_forces_listed<Policy>(cfg, in, list, force, range, n, s);
+}
+
+void compute_forces_listed(const SubdomainConfig& cfg, const ForceInputs& in, const NeighbourList& list, real4* force,
+                           ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    if (list.cell_offsets && (in.grid.any_periodic() || in.build_frame == nullptr))
+        throw RunError("a list with cell offsets needs an open grid and the positions of its rebuild");
+    launch_forces_listed_layout<ListedLoopPolicy>(cfg, in, list, force, range, n, s);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void fill_cell_coords(const std::uint32_t* cell, const real4* pos, const KeptCells& kept, const GridView& g,
+                      std::uint32_t n, cudaStream_t s) {
+    if (n == 0) return;
+    cell_coords_kernel<<<blocks_for(n), block_size, 0, s>>>(cell, pos, kept, g, n);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+}  // namespace sph::gpu
