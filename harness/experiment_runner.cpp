@@ -192,6 +192,7 @@ SceneRunRequest scene_request(const ExperimentSpec& spec, const PlannedRun& run)
     req.basename = run.run_id;
     req.validation = run.validation;
     req.record_blow_up = run.record_blow_up;
+    req.gauges = spec.gauges;
     return req;
 }
 

@@ -17,6 +17,8 @@
 
 #include "case_file.hpp"
 #include "core/error.hpp"
+#include "gauge_options.hpp"
+#include "io/csv_writer.hpp"
 #include "scenes/scene.hpp"
 
 namespace sph {
@@ -189,6 +191,40 @@ ValidationRequest read_validation(const SpecReader& r, const toml::node& node, c
     return v;
 }
 
+// [[gauges]]: kind, name and the keys of gauge_options.hpp, as strings or numbers.
+std::vector<Gauge> read_gauges(const SpecReader& r, const toml::node& node) {
+    const toml::array* list = node.as_array();
+    if (!list) r.fail(node.source(), "'gauges' must be [[gauges]] tables, not " + SpecReader::type_name(node));
+    std::vector<Gauge> gauges;
+    for (std::size_t i = 0; i < list->size(); ++i) {
+        const toml::node& item = *list->get(i);
+        const toml::table* t = item.as_table();
+        if (!t) r.fail(item.source(), "each [[gauges]] entry must be a table");
+        const std::string where = "[[gauges]] " + std::to_string(i + 1);
+        const std::string kind = r.text(*t, "kind", true, "", where);
+        std::map<std::string, std::string> keys;
+        for (const auto& [key, value] : *t) {
+            const std::string k(key.str());
+            if (k == "kind") continue;
+            if (value.is_string()) keys[k] = *value.value<std::string>();
+            else if (value.is_integer()) keys[k] = std::to_string(*value.value<long long>());
+            else if (value.is_floating_point()) keys[k] = CsvWriter::fmt(*value.value<double>());
+            else r.fail(value.source(), where + ": '" + k + "' must be a number or a string, not " + SpecReader::type_name(value));
+        }
+        try {
+            gauges.push_back(make_gauge(kind, keys, where));
+        } catch (const InputError& e) {
+            r.fail(item.source(), e.what());
+        }
+    }
+    try {
+        name_gauges(gauges);
+    } catch (const InputError& e) {
+        r.fail(node.source(), e.what());
+    }
+    return gauges;
+}
+
 RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index) {
     const toml::table* t = node.as_table();
     if (!t) r.fail(node.source(), "each [[runs]] entry must be a table");
@@ -254,7 +290,7 @@ ExperimentSpec load_spec(const std::string& path) {
     }
     r.check_keys(doc,
                  {"name", "reproduces", "description", "steps", "end_time", "warmup", "repetitions", "max_repetitions", "seed", "record",
-                  "snapshot_every", "solver", "runs", "sweep", "host", "stability", "validation", "blow_up"},
+                  "snapshot_every", "solver", "runs", "sweep", "host", "stability", "validation", "blow_up", "gauges"},
                  "the top level");
     ExperimentSpec spec;
     spec.path = path;
@@ -297,6 +333,8 @@ ExperimentSpec load_spec(const std::string& path) {
         r.fail(doc.get("blow_up")->source(), "'blow_up' must be \"fail\" or \"record\", got '" + blow_up + "'");
     spec.record_blow_ups = blow_up == "record";
     if (const toml::node* v = doc.get("validation")) spec.validation = read_validation(r, *v, "[validation]");
+
+    if (const toml::node* gauges = doc.get("gauges")) spec.gauges = read_gauges(r, *gauges);
 
     const toml::node* runs = doc.get("runs");
     if (!runs) r.fail_at(0, "missing required key 'runs' (one or more [[runs]] tables)");

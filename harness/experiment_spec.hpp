@@ -51,6 +51,12 @@
 //     every = 0.02                     #   simulated seconds between output times (> 0, required)
 //     end_time = 0.5                   #   optional: runs stop at this simulated time (steps: a cap)
 //   (a [[runs]] entry may carry its own: validation = { every = ..., end_time = ... })
+//   [[gauges]]                         # optional, any number; sampled in every run into
+//     kind = "water_level"             #   <run>_gauges.csv: pressure, velocity (x, y, z),
+//     name = "wg1"                     #   water_level (x, y), max_height (x, y, radius),
+//     x = 0.6                          #   force (body = "tank"); every (s, > 0) required;
+//     y = 0.335                        #   name optional (gauge_options.hpp)
+//     every = 0.01
 //   [host]                             # optional; when a run's backend resolves to the host:
 //     scale = 0.01                     #   particle counts times this (dp over its cube root)
 //     steps = 100                      #   replaces steps (with an end time: a cap)
@@ -71,6 +77,7 @@
 #include <utility>
 #include <vector>
 
+#include "gauge.hpp"
 #include "simulation.hpp"
 #include "solver_settings.hpp"
 #include "validation_recorder.hpp"
@@ -120,6 +127,7 @@ struct ExperimentSpec {
     std::optional<StabilityStudy> stability;  // only `sphbench stability` runs these
     std::optional<ValidationRequest> validation;
     bool record_blow_ups = false;  // blow_up = "record"
+    std::vector<Gauge> gauges;     // [[gauges]]: sampled in every run (gauge_options.hpp)
 
     bool records(const std::string& item) const;
 };

@@ -6,6 +6,8 @@
 
 #include "case_file.hpp"
 #include "end_time_stop.hpp"
+#include "gauge_options.hpp"
+#include "gauge_sink.hpp"
 #include "last_good_sink.hpp"
 #include "multi/rank_group.hpp"
 #include "progress_sink.hpp"
@@ -46,6 +48,9 @@ SceneRunResult run_scene(const SceneRunRequest& request) {
     res.boundary = scene.n_boundary;
     res.dp = scene.dp;
     res.scene_settings = scene.settings;
+    std::vector<Gauge> gauges = req.gauges;
+    name_gauges(gauges);
+    for (const Gauge& g : gauges) check_gauge(g, scene);
     SolverOptions solver = req.solver;
     if (req.calibrate_search) {
         const Calibration cal = calibrate_search(scene, solver);
@@ -102,6 +107,8 @@ SceneRunResult run_scene(const SceneRunRequest& request) {
     std::optional<ValidationSink> validation;
     if (req.validation.enabled())
         loop.feed(validation.emplace(scene, req.validation, writing ? out_path("_validation.csv") : "", scene_metadata()));
+    std::optional<GaugeSink> gauge_sink;
+    if (!gauges.empty()) loop.feed(gauge_sink.emplace(gauges, writing ? out_path("_gauges.csv") : "", scene_metadata()));
     ProgressSink progress(req.scene, total, req.end_time, req.progress);
     loop.feed(progress);
     std::optional<LastGoodSink> last_good;
@@ -135,6 +142,7 @@ SceneRunResult run_scene(const SceneRunRequest& request) {
         res.validation_seconds = validation->seconds();
         if (!validation->file().empty()) res.files.push_back(validation->file());
     }
+    if (gauge_sink && !gauge_sink->path().empty()) res.files.push_back(gauge_sink->path());
     if (step_csv) res.files.push_back(step_csv->path());
     return res;
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "gauge.hpp"
 #include "provenance.hpp"
 #include "run_cost_sink.hpp"
 #include "simulation.hpp"
@@ -32,6 +33,9 @@ struct SceneRunRequest {
     Metadata metadata;            // provenance lines for every file
     ValidationRequest validation; // off unless asked for: the scene's metric at output times
     bool record_blow_up = false;  // a blow-up ends the run and is reported in the result, not thrown
+    // Sampled into <basename>_gauges.csv (gauge_sink.hpp); checked against the scene (exit 2
+    // material) before the simulation is built. Unnamed ones are named KIND<n>.
+    std::vector<Gauge> gauges;
 };
 
 struct SceneRunResult {

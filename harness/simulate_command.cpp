@@ -8,6 +8,7 @@
 #include "case_file.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
+#include "gauge_options.hpp"
 #include "scene_run.hpp"
 #include "search_calibration.hpp"
 #include "statistics.hpp"
@@ -18,6 +19,7 @@ namespace {
 struct SimulateArgs {
     std::string scene;
     std::vector<std::string> settings;
+    std::vector<std::string> gauges;
     long steps = 0, warmup = 0, snapshot_every = 0;  // defaults: the run settings table's
     std::string out = "results/simulate";
     bool quiet = false;
@@ -135,6 +137,11 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     cmd->add_option(setting_flag(end_time), args->end_time, std::string(end_time.help) + ", for any scene")
         ->check(in_range(end_time.range));
     cmd->add_option("--out", args->out, "output folder")->capture_default_str();
+    cmd->add_option("--gauge", args->gauges,
+                    "a gauge sampled every EVERY simulated seconds into SCENE_gauges.csv (repeatable): "
+                    "KIND:key=value,... with KIND pressure or velocity (x, y, z), water_level (x, y), max_height "
+                    "(x, y, radius) or force (body: a body the scene names, e.g. tank); every kind takes every "
+                    "(required) and name, e.g. --gauge water_level:x=0.6,y=0.335,every=0.01");
     cmd->add_flag("--quiet", args->quiet, "no progress line");
     cmd->add_flag("--auto-search", args->auto_search,
                   "time every search strategy for a few steps first, Verlet lists too (one subdomain), and run the "
@@ -149,6 +156,7 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
         SceneRunRequest req;
         req.scene = args->scene;
         req.scene_options = parse_settings(args->settings);
+        for (const std::string& g : args->gauges) req.gauges.push_back(parse_gauge_option(g));
         req.solver = solver_options(args->solver);
         // With an end time, --steps is a cap only when given.
         req.steps = args->end_time > 0 && !args->steps_given ? 0 : args->steps;

@@ -407,6 +407,34 @@ WorkCounters Simulation::count_work() {
     return total;
 }
 
+void Simulation::check_gauges(const std::vector<Gauge>& gauges) const {
+    for (const Gauge& g : gauges) check_gauge(g, scene_);
+}
+
+std::vector<double> Simulation::measure_gauges(const std::vector<Gauge>& gauges) {
+    std::vector<GaugeProbe> probes;
+    std::vector<std::size_t> first;  // each gauge's first probe
+    for (const Gauge& g : gauges) {
+        first.push_back(probes.size());
+        for (const GaugeProbe& p : gauge_probes(g, scene_, grid_)) probes.push_back(p);
+    }
+    if (probes.empty()) return {};
+    std::vector<GaugeSum> local;  // subdomain after subdomain, each all its probes
+    for (auto& d : subdomains_)
+        for (const GaugeSum& s : d->gauge_sums(probes)) local.push_back(s);
+    const std::vector<GaugeSum> all = allgather_values(domain_->ranks(), local);
+    std::vector<GaugeSum> total;
+    for (const GaugeProbe& p : probes) total.push_back(empty_gauge_sum(p.kind));
+    for (std::size_t k = 0; k < all.size(); ++k) {
+        const std::size_t q = k % probes.size();
+        total[q] = merge_gauge_sums(probes[q].kind, total[q], all[k]);
+    }
+    std::vector<double> values;
+    for (std::size_t g = 0; g < gauges.size(); ++g)
+        for (double v : gauge_values(gauges[g], scene_, grid_, total.data() + first[g])) values.push_back(v);
+    return values;
+}
+
 std::string Simulation::device_name() const {
     const std::string first = subdomains_.front()->device_name();
     for (const auto& d : subdomains_)

@@ -18,6 +18,7 @@
 #include "backend/steady_phase_clock.hpp"
 #include "backend/subdomain.hpp"
 #include "core/error.hpp"
+#include "gauge.hpp"
 #include "io/snapshot_writer.hpp"
 #include "multi/rank_group.hpp"
 #include "multi/slab_domain.hpp"
@@ -125,6 +126,12 @@ public:
     const StepRecord& step();
     SnapshotData snapshot();  // absolute positions of owned particles, for HDF5
     WorkCounters count_work();
+    // Throws InputError for a gauge that does not fit the scene (gauge.hpp), before any step.
+    void check_gauges(const std::vector<Gauge>& gauges) const;
+    // The gauges' column values (gauge_columns, in order) in the current state, computed by
+    // the backends over the particles each subdomain owns and summed in subdomain order
+    // (every rank gets them).
+    std::vector<double> measure_gauges(const std::vector<Gauge>& gauges);
 
     const Scene& scene() const { return scene_; }
     const Grid& grid() const { return grid_; }

@@ -153,6 +153,48 @@ TEST_P(CudaVariants, ThatKeepTheListsMatchTheDefaultBitwise) {
 INSTANTIATE_TEST_SUITE_P(Registry, CudaVariants, ::testing::ValuesIn(variant_cases()),
                          [](const auto& info) { return info.param.label; });
 
+// The gauge kernels (cuda_gauges.cu) against the host's loops on the same run: a collapsing
+// column read by every kind of gauge, with the cell search and with Verlet lists (particles
+// then stray from the cells of the last sort).
+TEST(CudaBackend, GaugesMatchTheHostBackend) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const Scene s = test::small_dambreak("0.02");
+    auto gauge = [](GaugeKind kind, const char* name, double x, double y, double z) {
+        Gauge g;
+        g.kind = kind;
+        g.name = name;
+        g.x = x;
+        g.y = y;
+        g.z = z;
+        g.radius = 0.05;
+        g.body = "tank";
+        return g;
+    };
+    const std::vector<Gauge> gauges = {gauge(GaugeKind::water_level, "level", 0.2, 0.1, 0),
+                                       gauge(GaugeKind::pressure, "p", 0.2, 0.1, 0.05),
+                                       gauge(GaugeKind::velocity, "v", 0.4, 0.1, 0.05),
+                                       gauge(GaugeKind::max_height, "top", 0.3, 0.1, 0),
+                                       gauge(GaugeKind::force, "f", 0, 0, 0)};
+    const char* what[] = {"level", "p", "vx", "vy", "vz", "top", "fx", "fy", "fz"};
+    for (const SearchOptions search : {SearchOptions{1, false}, SearchOptions{2, true, true}}) {
+        SolverOptions host, cuda;
+        host.search = cuda.search = search;
+        host.fixed_dt = cuda.fixed_dt = 1.4e-4;
+        cuda.backend = BackendKind::cuda;
+        Simulation a(s, host), b(s, cuda);
+        test::step_both(a, b, 200);
+        const std::vector<double> va = a.measure_gauges(gauges), vb = b.measure_gauges(gauges);
+        ASSERT_EQ(va.size(), 9u);
+        ASSERT_EQ(vb.size(), va.size());
+        const double weight = double(s.fluid_count()) * s.params.mass * 9.81;
+        const double scale[] = {s.dp, 1e3, 1, 1, 1, s.dp, weight, weight, weight};
+        for (std::size_t k = 0; k < va.size(); ++k) {
+            EXPECT_TRUE(std::isfinite(va[k])) << what[k];
+            EXPECT_NEAR(vb[k], va[k], 1e-3 * scale[k]) << what[k] << ", verlet = " << search.verlet;
+        }
+    }
+}
+
 // Several subdomains sharing one GPU against one subdomain on it: ghosts hold exactly the
 // particles of their cells, sorted by id, so each particle sums its neighbours in the same
 // order and the result is bitwise the same (as on the host, MultiDevice).

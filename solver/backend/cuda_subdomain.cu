@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "backend/cuda_drivers.cuh"
+#include "backend/cuda_gauges.cuh"
 #include "backend/cuda_phase_clock.cuh"
 #include "backend/device_buffer.cuh"
 
@@ -336,6 +337,25 @@ public:
         return {c[0], c[1], c[2]};
     }
 
+    std::vector<GaugeSum> gauge_sums(const std::vector<GaugeProbe>& probes) override {
+        use_device();
+        if (probes.empty()) return {};
+        if (gauge_probes_.size() < probes.size()) {
+            gauge_probes_.allocate(probes.size());
+            gauge_sums_.allocate(probes.size());
+        }
+        bool force = false;
+        for (const GaugeProbe& p : probes) force = force || p.kind == GaugeKind::force;
+        if (force && gauge_force_.size() < n_) gauge_force_.allocate(pos_.size());  // freed with the subdomain
+        gauge_probes_.upload(probes.data(), probes.size(), stream_);
+        const GaugeInputs in{inputs(), id_.data(), owned_[0], owned_[1]};
+        gpu::gauge_sums(cfg_, in, gauge_probes_.data(), probes, n_, gauge_force_.data(), gauge_sums_.data(), stream_);
+        std::vector<GaugeSum> out(probes.size());
+        gauge_sums_.download(out.data(), out.size(), stream_);
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        return out;
+    }
+
     std::size_t active_count() const override {
         use_device();
         if (active_stale_) {
@@ -392,6 +412,9 @@ private:
     DeviceBuffer<unsigned long long> counters_;
     DeviceBuffer<std::uint32_t> list_index_, list_count_, counters32_{1};
     DeviceBuffer<CellCoords> cell_coords_;
+    DeviceBuffer<GaugeProbe> gauge_probes_;  // gauges: allocated on the first call
+    DeviceBuffer<GaugeSum> gauge_sums_;
+    DeviceBuffer<real4> gauge_force_;        // force gauges: each particle's force
     DeviceBuffer<real4> build_frame_;  // KeptCells::build_frame, while list_cell_offsets_
     bool list_cell_offsets_ = false;   // the lists' entries are ListEntry codes
     std::uint32_t list_capacity_ = 64;

@@ -238,6 +238,40 @@ public:
         return {cand, nb, ranges};
     }
 
+    std::vector<GaugeSum> gauge_sums(const std::vector<GaugeProbe>& probes) override {
+        const std::uint32_t ncells = cfg_.grid.cell_count();
+        const GaugeInputs in{inputs(), a_.id.data(), std::min(owned_cells_[0], ncells), std::min(owned_cells_[1], ncells)};
+        const PhysicsParams p = cfg_.params;
+        std::vector<GaugeSum> out;
+        dispatch_kernel(cfg_.kernel, false, [&](auto k, auto) {
+            using Kernel = typename decltype(k)::type;
+            const Kernel kernel(p.h);
+            for (const GaugeProbe& probe : probes) {
+                GaugeSum total = empty_gauge_sum(probe.kind);
+                if (probe.kind == GaugeKind::force) {
+                    // Per particle in parallel, then summed in particle order.
+                    const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
+                    std::vector<real3> per(std::size_t(n - lo));
+#pragma omp parallel for schedule(static)
+                    for (std::ptrdiff_t i = lo; i < n; ++i)
+                        per[std::size_t(i - lo)] = fluid_force_on_body(std::uint32_t(i), probe, in, p, kernel);
+                    for (const real3& f : per) {
+                        total.v[0] += double(f.x);
+                        total.v[1] += double(f.y);
+                        total.v[2] += double(f.z);
+                    }
+                } else {
+                    const GaugeStencil st = probe_stencil(probe, cfg_.grid, p);
+                    for (std::uint32_t c = 0; c < st.cells(); ++c)
+                        total = merge_gauge_sums(probe.kind, total,
+                                                 probe_cell_sum(probe, in, p, kernel, st.cell(cfg_.grid, c)));
+                }
+                out.push_back(total);
+            }
+        });
+        return out;
+    }
+
     std::size_t active_count() const override { return owned_hi_ - owned_lo_; }
     std::size_t bytes_allocated() const override {
         return a_.size() * (4 * sizeof(real4) + 2 * sizeof(std::uint32_t) + 12) +

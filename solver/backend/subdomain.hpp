@@ -13,6 +13,7 @@
 #include "core/smoothing_kernels.hpp"
 #include "neighbours/cell_search.hpp"
 #include "neighbours/grid.hpp"
+#include "physics/gauges.hpp"
 #include "physics/integration.hpp"
 #include "physics/interaction.hpp"
 #include "physics/step_stats.hpp"
@@ -97,6 +98,9 @@ public:
     virtual StepStats reduce_stats(const TimeStep& step, const StatsLimits& limits) = 0;
     // Not timed: counts the neighbour search's work for the current sorted state.
     virtual WorkCounters count_work() = 0;
+    // Not timed: each probe's partial sums over the particles this subdomain owns, in the
+    // state the last advance left (physics/gauges.hpp); deterministic (fixed summation order).
+    virtual std::vector<GaugeSum> gauge_sums(const std::vector<GaugeProbe>& probes) = 0;
 
     // The port a decomposition (multi/) works through, in cells only: after a sort, the
     // particles of a cell range are one contiguous range. Per-particle phases (update, forces, statistics) act on the particles of the owned cells;
