@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "experiment_spec.hpp"
+#include "toml_type_name.hpp"
 #include "value_range.hpp"
 
 namespace sph {
@@ -37,7 +38,7 @@ public:
     }
 
     const toml::table& table(const toml::node& n, const std::string& where) const {
-        if (!n.is_table()) fail(n, where + " must be a table, not " + type_name(n));
+        if (!n.is_table()) fail(n, where + " must be a table, not " + toml_type_name(n));
         return *n.as_table();
     }
     const toml::node& required(const toml::table& t, const std::string& key, const std::string& where) const {
@@ -47,7 +48,7 @@ public:
     }
 
     double number(const toml::node& n, const std::string& key) const {
-        if (!n.is_number()) fail(n, "'" + key + "' must be a number, not " + type_name(n));
+        if (!n.is_number()) fail(n, "'" + key + "' must be a number, not " + toml_type_name(n));
         return n.value<double>().value();
     }
     double positive(const toml::node& n, const std::string& key) const {
@@ -61,21 +62,21 @@ public:
         std::array<double, 3> p{};
         for (std::size_t i = 0; i < 3; ++i) {
             const toml::node& item = *a->get(i);
-            if (!item.is_number()) fail(item, "'" + key + "' must be an array of 3 numbers, and " + type_name(item) + " is not one");
+            if (!item.is_number()) fail(item, "'" + key + "' must be an array of 3 numbers, and " + toml_type_name(item) + " is not one");
             p[i] = item.value<double>().value();
         }
         return p;
     }
     std::string text(const toml::node& n, const std::string& key) const {
-        if (!n.is_string()) fail(n, "'" + key + "' must be a string, not " + type_name(n));
+        if (!n.is_string()) fail(n, "'" + key + "' must be a string, not " + toml_type_name(n));
         return n.value<std::string>().value();
     }
     bool boolean(const toml::node& n, const std::string& key) const {
-        if (!n.is_boolean()) fail(n, "'" + key + "' must be true or false, not " + type_name(n));
+        if (!n.is_boolean()) fail(n, "'" + key + "' must be true or false, not " + toml_type_name(n));
         return n.value<bool>().value();
     }
     int layers(const toml::node& n) const {
-        if (!n.is_integer()) fail(n, "'layers' must be an integer, not " + type_name(n));
+        if (!n.is_integer()) fail(n, "'layers' must be an integer, not " + toml_type_name(n));
         const long long v = n.value<long long>().value();
         if (v < 1 || v > 5) fail(n, "'layers' must be 1 to 5, got " + std::to_string(v));
         return int(v);
@@ -83,7 +84,7 @@ public:
     // The tables of an array of tables ([[case.fluid]]).
     std::vector<const toml::table*> tables(const toml::node& n, const std::string& where) const {
         const toml::array* a = n.as_array();
-        if (!a) fail(n, "'" + where + "' must be an array of tables ([[case." + where + "]]), not " + type_name(n));
+        if (!a) fail(n, "'" + where + "' must be an array of tables ([[case." + where + "]]), not " + toml_type_name(n));
         std::vector<const toml::table*> out;
         for (const auto& item : *a) out.push_back(&table(item, "each [[case." + where + "]]"));
         return out;
@@ -94,17 +95,6 @@ public:
         b.where = at(t.source()) + ": " + where;
     }
 
-    static std::string type_name(const toml::node& n) {
-        switch (n.type()) {
-        case toml::node_type::string: return "a string";
-        case toml::node_type::integer: return "an integer";
-        case toml::node_type::floating_point: return "a float";
-        case toml::node_type::boolean: return "a boolean";
-        case toml::node_type::array: return "an array";
-        case toml::node_type::table: return "a table";
-        default: return "a date or time";
-        }
-    }
 
 private:
     std::string path_;

@@ -16,6 +16,7 @@
 #include <toml++/toml.h>
 
 #include "case_file.hpp"
+#include "toml_type_name.hpp"
 #include "core/error.hpp"
 #include "gauge_options.hpp"
 #include "io/csv_writer.hpp"
@@ -54,7 +55,7 @@ public:
             if (required) fail(t.source(), "missing required key '" + key + "' in " + where);
             return fallback;
         }
-        if (!n->is_string()) fail(n->source(), "'" + key + "' must be a string, not " + type_name(*n));
+        if (!n->is_string()) fail(n->source(), "'" + key + "' must be a string, not " + toml_type_name(*n));
         return n->value<std::string>().value();
     }
 
@@ -71,7 +72,7 @@ public:
             if (required) fail(t.source(), "missing required key '" + key + "' in " + where);
             return fallback;
         }
-        if (!n->is_integer()) fail(n->source(), "'" + key + "' must be an integer, not " + type_name(*n));
+        if (!n->is_integer()) fail(n->source(), "'" + key + "' must be an integer, not " + toml_type_name(*n));
         const long long v = n->value<long long>().value();
         if (range) check_value(*n, key, *range, std::to_string(v));
         return v;
@@ -86,7 +87,7 @@ public:
     double run_number(const toml::table& t, const std::string& key) const {
         const toml::node* n = t.get(key);
         if (!n) return 0;
-        if (!n->is_number()) fail(n->source(), "'" + key + "' must be a number, not " + type_name(*n));
+        if (!n->is_number()) fail(n->source(), "'" + key + "' must be a number, not " + toml_type_name(*n));
         const double v = n->value<double>().value();
         check_value(*n, key, run_setting(key).range, format_number(v));
         return v;
@@ -95,7 +96,7 @@ public:
     double number(const toml::table& t, const std::string& key, double fallback, double lo_exclusive) const {
         const toml::node* n = t.get(key);
         if (!n) return fallback;
-        if (!n->is_number()) fail(n->source(), "'" + key + "' must be a number, not " + type_name(*n));
+        if (!n->is_number()) fail(n->source(), "'" + key + "' must be a number, not " + toml_type_name(*n));
         const double v = n->value<double>().value();
         check_value(*n, key, number_above(lo_exclusive), format_number(v));
         return v;
@@ -115,26 +116,26 @@ public:
         std::string text;
         switch (solver_setting_kind(key)) {
         case SettingKind::text:
-            if (!n.is_string()) fail(n.source(), "'" + key + "' must be a string, not " + type_name(n));
+            if (!n.is_string()) fail(n.source(), "'" + key + "' must be a string, not " + toml_type_name(n));
             text = n.value<std::string>().value();
             break;
         case SettingKind::integer:
-            if (!n.is_integer()) fail(n.source(), "'" + key + "' must be an integer, not " + type_name(n));
+            if (!n.is_integer()) fail(n.source(), "'" + key + "' must be an integer, not " + toml_type_name(n));
             text = std::to_string(n.value<long long>().value());
             break;
         case SettingKind::number:
-            if (!n.is_number()) fail(n.source(), "'" + key + "' must be a number, not " + type_name(n));
+            if (!n.is_number()) fail(n.source(), "'" + key + "' must be a number, not " + toml_type_name(n));
             text = format_number(n.value<double>().value());
             break;
         case SettingKind::boolean:
-            if (!n.is_boolean()) fail(n.source(), "'" + key + "' must be true or false, not " + type_name(n));
+            if (!n.is_boolean()) fail(n.source(), "'" + key + "' must be true or false, not " + toml_type_name(n));
             text = n.value<bool>().value() ? "true" : "false";
             break;
         case SettingKind::integer_list: {
             const toml::array* items = n.as_array();
-            if (!items) fail(n.source(), "'" + key + "' must be an array of integers, not " + type_name(n));
+            if (!items) fail(n.source(), "'" + key + "' must be an array of integers, not " + toml_type_name(n));
             for (const auto& item : *items) {
-                if (!item.is_integer()) fail(item.source(), "'" + key + "' must be an array of integers, and " + type_name(item) + " is not one");
+                if (!item.is_integer()) fail(item.source(), "'" + key + "' must be an array of integers, and " + toml_type_name(item) + " is not one");
                 text += (text.empty() ? "" : ",") + std::to_string(item.value<long long>().value());
             }
             break;
@@ -149,7 +150,7 @@ public:
 
     SettingMap solver_table(const toml::node& n, const std::string& where) const {
         const toml::table* t = n.as_table();
-        if (!t) fail(n.source(), "'" + where + "' must be a table, not " + type_name(n));
+        if (!t) fail(n.source(), "'" + where + "' must be a table, not " + toml_type_name(n));
         check_keys(*t, solver_setting_keys(), where);
         SettingMap out;
         for (const auto& [key, value] : *t) out[std::string(key.str())] = solver_value(std::string(key.str()), value);
@@ -160,20 +161,9 @@ public:
         if (n.is_integer()) return std::to_string(n.value<long long>().value());
         if (n.is_floating_point()) return format_number(n.value<double>().value());
         if (n.is_string()) return n.value<std::string>().value();
-        fail(n.source(), "scene option '" + key + "' must be an integer, a float or a string, not " + type_name(n));
+        fail(n.source(), "scene option '" + key + "' must be an integer, a float or a string, not " + toml_type_name(n));
     }
 
-    static std::string type_name(const toml::node& n) {
-        switch (n.type()) {
-        case toml::node_type::string: return "a string";
-        case toml::node_type::integer: return "an integer";
-        case toml::node_type::floating_point: return "a float";
-        case toml::node_type::boolean: return "a boolean";
-        case toml::node_type::array: return "an array";
-        case toml::node_type::table: return "a table";
-        default: return "a date or time";
-        }
-    }
 
 private:
     std::string path_;
@@ -182,7 +172,7 @@ private:
 // [validation] or a run's validation = { ... }: the scene must have a metric.
 ValidationRequest read_validation(const SpecReader& r, const toml::node& node, const std::string& where) {
     const toml::table* t = node.as_table();
-    if (!t) r.fail(node.source(), "'" + where + "' must be a table, not " + SpecReader::type_name(node));
+    if (!t) r.fail(node.source(), "'" + where + "' must be a table, not " + toml_type_name(node));
     r.check_keys(*t, {"every", "end_time"}, where);
     if (!t->get("every")) r.fail(t->source(), "missing required key 'every' in " + where);
     ValidationRequest v;
@@ -194,7 +184,7 @@ ValidationRequest read_validation(const SpecReader& r, const toml::node& node, c
 // [[gauges]]: kind, name and the keys of gauge_options.hpp, as strings or numbers.
 std::vector<Gauge> read_gauges(const SpecReader& r, const toml::node& node) {
     const toml::array* list = node.as_array();
-    if (!list) r.fail(node.source(), "'gauges' must be [[gauges]] tables, not " + SpecReader::type_name(node));
+    if (!list) r.fail(node.source(), "'gauges' must be [[gauges]] tables, not " + toml_type_name(node));
     std::vector<Gauge> gauges;
     for (std::size_t i = 0; i < list->size(); ++i) {
         const toml::node& item = *list->get(i);
@@ -209,7 +199,7 @@ std::vector<Gauge> read_gauges(const SpecReader& r, const toml::node& node) {
             if (value.is_string()) keys[k] = *value.value<std::string>();
             else if (value.is_integer()) keys[k] = std::to_string(*value.value<long long>());
             else if (value.is_floating_point()) keys[k] = CsvWriter::fmt(*value.value<double>());
-            else r.fail(value.source(), where + ": '" + k + "' must be a number or a string, not " + SpecReader::type_name(value));
+            else r.fail(value.source(), where + ": '" + k + "' must be a number or a string, not " + toml_type_name(value));
         }
         try {
             gauges.push_back(make_gauge(kind, keys, where));
@@ -249,7 +239,7 @@ RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index)
     run.label = filename_safe(r.text(*t, "label", false, scene_stem(run.scene) + "-" + std::to_string(index + 1), "[[runs]]"));
     if (const toml::node* set = t->get("set")) {
         const toml::table* st = set->as_table();
-        if (!st) r.fail(set->source(), "'set' must be a table of scene options, not " + SpecReader::type_name(*set));
+        if (!st) r.fail(set->source(), "'set' must be a table of scene options, not " + toml_type_name(*set));
         for (const auto& [key, value] : *st) run.scene_options[std::string(key.str())] = r.scene_value(std::string(key.str()), value);
     }
     if (const toml::node* solver = t->get("solver")) run.solver = r.solver_table(*solver, "solver of [[runs]]");
@@ -265,7 +255,7 @@ void read_sweep_axis(const SpecReader& r, const std::string& key, const toml::no
         r.fail(node.source(), "unknown key '" + key + "' in [sweep] (known: " + known + "set.<scene option>)");
     }
     const toml::array* values = node.as_array();
-    if (!values) r.fail(node.source(), "'" + key + "' in [sweep] must be an array, not " + SpecReader::type_name(node));
+    if (!values) r.fail(node.source(), "'" + key + "' in [sweep] must be an array, not " + toml_type_name(node));
     if (values->empty()) r.fail(node.source(), "'" + key + "' in [sweep] is an empty array");
     SweepAxis axis{key, {}};
     for (const auto& v : *values)
@@ -312,7 +302,7 @@ ExperimentSpec load_spec(const std::string& path) {
 
     if (const toml::node* rec = doc.get("record")) {
         const toml::array* items = rec->as_array();
-        if (!items) r.fail(rec->source(), "'record' must be an array of strings, not " + SpecReader::type_name(*rec));
+        if (!items) r.fail(rec->source(), "'record' must be an array of strings, not " + toml_type_name(*rec));
         spec.record.clear();
         for (const auto& item : *items) {
             const auto s = item.value<std::string>();
@@ -357,7 +347,7 @@ ExperimentSpec load_spec(const std::string& path) {
 
     if (const toml::node* sweep = doc.get("sweep")) {
         const toml::table* t = sweep->as_table();
-        if (!t) r.fail(sweep->source(), "'sweep' must be a table, not " + SpecReader::type_name(*sweep));
+        if (!t) r.fail(sweep->source(), "'sweep' must be a table, not " + toml_type_name(*sweep));
         for (const auto& [key, node] : *t) {
             const std::string k(key.str());
             if (k == "set" && node.is_table()) {  // set.particles = [...] written as a dotted key
@@ -372,7 +362,7 @@ ExperimentSpec load_spec(const std::string& path) {
 
     if (const toml::node* host = doc.get("host")) {
         const toml::table* t = host->as_table();
-        if (!t) r.fail(host->source(), "'host' must be a table, not " + SpecReader::type_name(*host));
+        if (!t) r.fail(host->source(), "'host' must be a table, not " + toml_type_name(*host));
         r.check_keys(*t, {"scale", "steps", "end_time"}, "[host]");
         HostReduction h;
         h.scale = r.number(*t, "scale", 1.0, 0.0);
@@ -383,7 +373,7 @@ ExperimentSpec load_spec(const std::string& path) {
 
     if (const toml::node* st = doc.get("stability")) {
         const toml::table* t = st->as_table();
-        if (!t) r.fail(st->source(), "'stability' must be a table, not " + SpecReader::type_name(*st));
+        if (!t) r.fail(st->source(), "'stability' must be a table, not " + toml_type_name(*st));
         const std::string where = "[stability]";
         r.check_keys(*t, {"probe", "time", "cfl_low", "cfl_high", "bisections", "sample_every"}, where);
         StabilityStudy s;
