@@ -19,6 +19,7 @@
 #include "backend/cuda_check.cuh"
 #include "backend/cuda_launch_policy.cuh"
 #include "backend/cuda_pair_queue.cuh"
+#include "backend/cuda_warp_stencil_build.cuh"
 #include "physics/dispatch.hpp"
 #include "physics/integration.hpp"
 
@@ -449,7 +450,12 @@ template <class Search, bool CellOffsets>
 void launch_list_build(const ForceInputs& in, real reach2, std::uint32_t* index, std::uint32_t* count,
                        std::uint32_t stride, std::uint32_t capacity, ActiveRange range, std::uint32_t n, cudaStream_t s) {
     const bool in_step = ListedLoopPolicy::build_in_step && !per_lane_list_build_forced();
-    if (in_step && !(Search::merge && in.grid.periodic_z))
+    // One stencil per warp on open grids (cuda_warp_stencil_build.cuh); the lanes' own
+    // stencils in step across periodic faces.
+    if (in_step && !in.grid.any_periodic())
+        build_lists_warp_stencil_kernel<Search, CellOffsets, block_size, list_stage_rows>
+            <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range.begin, range.end);
+    else if (in_step && !(Search::merge && in.grid.periodic_z))
         build_lists_in_step_kernel<Search, CellOffsets>
             <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
     else
