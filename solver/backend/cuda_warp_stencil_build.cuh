@@ -32,6 +32,10 @@ __global__ void __launch_bounds__(BlockSize)
     constexpr int N = Search::n;
     // Each lane's newest entries, stored by whole rows as in build_lists_in_step_kernel.
     __shared__ std::uint32_t stage[BlockSize / 32][StageRows][32];
+    // 32 candidates at a time: loaded by the warp's lanes together (coalesced, one memory
+    // latency for 32), then read by every lane from shared memory at one address.
+    __shared__ real4 batch_pos[BlockSize / 32][32];
+    __shared__ std::uint32_t batch_cell[BlockSize / 32][32];
     const std::uint32_t end = *range_end;
     const std::uint32_t i = *range_begin + blockIdx.x * blockDim.x + threadIdx.x;
     const std::uint32_t lane = threadIdx.x % 32, first = i - lane;
@@ -39,6 +43,8 @@ __global__ void __launch_bounds__(BlockSize)
     const bool valid = i < end;
     const std::uint32_t me = valid ? i : end - 1;
     auto& ring = stage[threadIdx.x / 32];
+    auto& cand_pos = batch_pos[threadIdx.x / 32];
+    auto& cand_cell = batch_cell[threadIdx.x / 32];
     const real4 pos_i = in.pos[me];
     const bool fluid_i = !is_boundary(in.velrho[me]);
     const GridView& g = in.grid;
@@ -77,26 +83,35 @@ __global__ void __launch_bounds__(BlockSize)
                 if (y < 0 || y >= g.ny) continue;
                 const std::uint32_t column = g.encode(x, y, 0);
                 const std::uint32_t b = in.cell_start[column + z0], e = in.cell_start[column + z1 + 1];
-                for (std::uint32_t j = b; j < e; ++j) {
-                    const real4 pj = in.pos[j];  // one address for the whole warp
-                    const int dz = int(in.cell[j] - column) - c.z;
-                    bool keep = walks && j != me && dz >= -N && dz <= N;
-                    if (keep) {
-                        const real3 rij = separation(pos_i, pj, dx, dy, dz, cs);
-                        keep = dot(rij, rij) < reach2;
+                for (std::uint32_t base = b; base < e; base += 32) {
+                    __syncwarp();  // the previous batch is read
+                    if (base + lane < e) {
+                        cand_pos[lane] = in.pos[base + lane];
+                        cand_cell[lane] = in.cell[base + lane];
                     }
-                    if (any_wall && keep && !fluid_i) keep = !is_boundary(in.velrho[j]);  // walls list fluid only
-                    if (!keep) continue;
-                    if (n < capacity) {
-                        const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, dx, dy, dz) : j;
-                        if (n >= direct || n - stored >= StageRows) {
-                            if (direct == 0xffffffffu) direct = n;
-                            index[std::size_t(n) * stride + i] = entry;
-                        } else {
-                            ring[n % StageRows][lane] = entry;
+                    __syncwarp();
+                    const std::uint32_t batch = min(e - base, 32u);
+                    for (std::uint32_t k = 0; k < batch; ++k) {
+                        const std::uint32_t j = base + k;
+                        const int dz = int(cand_cell[k] - column) - c.z;
+                        bool keep = walks && j != me && dz >= -N && dz <= N;
+                        if (keep) {
+                            const real3 rij = separation(pos_i, cand_pos[k], dx, dy, dz, cs);
+                            keep = dot(rij, rij) < reach2;
                         }
+                        if (any_wall && keep && !fluid_i) keep = !is_boundary(in.velrho[j]);  // walls list fluid only
+                        if (!keep) continue;
+                        if (n < capacity) {
+                            const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, dx, dy, dz) : j;
+                            if (n >= direct || n - stored >= StageRows) {
+                                if (direct == 0xffffffffu) direct = n;
+                                index[std::size_t(n) * stride + i] = entry;
+                            } else {
+                                ring[n % StageRows][lane] = entry;
+                            }
+                        }
+                        ++n;
                     }
-                    ++n;
                 }
                 const std::uint32_t filled = __reduce_min_sync(full_warp, staging && walks ? n : 0xffffffffu);
                 if (filled != 0xffffffffu) store_rows(filled);  // no walking lane stages: nothing to store
