@@ -160,12 +160,7 @@ TEST(CudaBackend, GaugesMatchTheHostBackend) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
     const Scene s = test::small_dambreak("0.02");
     auto gauge = [](GaugeKind kind, const char* name, double x, double y, double z) {
-        Gauge g;
-        g.kind = kind;
-        g.name = name;
-        g.x = x;
-        g.y = y;
-        g.z = z;
+        Gauge g = test::gauge_at(kind, name, x, y, z);
         g.radius = 0.05;
         g.body = "tank";
         return g;

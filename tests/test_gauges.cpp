@@ -13,21 +13,14 @@
 #include "commands.hpp"
 #include "experiment_spec.hpp"
 #include "sphbench_driver.hpp"
+#include "test_support.hpp"
 #include "core/smoothing_kernels.hpp"
 #include "simulation.hpp"
 
 namespace sph {
 namespace {
 
-Gauge gauge(GaugeKind kind, const std::string& name, double x, double y, double z = 0) {
-    Gauge g;
-    g.kind = kind;
-    g.name = name;
-    g.x = x;
-    g.y = y;
-    g.z = z;
-    return g;
-}
+using test::gauge_at;
 
 Scene small_tank() {
     return make_scene("tank", {{"length", "0.2"}, {"width", "0.1"}, {"depth", "0.3"}, {"dp", "0.0125"}});
@@ -72,13 +65,13 @@ TEST(Gauges, TankAtRestReadsItsLevelPressureAndWeight) {
     const SnapshotData snap = sim.snapshot();
     const double surface = fluid_top(snap) + 0.5 * s.dp;  // as the scene starts it: half a spacing above the top layer
     const double x = 0.1, y = 0.05, z = surface - 0.2;   // 16 spacings deep, 8 from the side walls
-    Gauge force = gauge(GaugeKind::force, "tank_force", 0, 0);
+    Gauge force = gauge_at(GaugeKind::force, "tank_force", 0, 0);
     force.body = "tank";
-    Gauge top = gauge(GaugeKind::max_height, "top", x, y);
+    Gauge top = gauge_at(GaugeKind::max_height, "top", x, y);
     top.radius = 2 * s.dp;
-    const std::vector<Gauge> gauges = {gauge(GaugeKind::water_level, "level", x, y),
-                                       gauge(GaugeKind::pressure, "p", x, y, z),
-                                       gauge(GaugeKind::velocity, "v", x, y, z), force, top};
+    const std::vector<Gauge> gauges = {gauge_at(GaugeKind::water_level, "level", x, y),
+                                       gauge_at(GaugeKind::pressure, "p", x, y, z),
+                                       gauge_at(GaugeKind::velocity, "v", x, y, z), force, top};
     sim.check_gauges(gauges);
     const std::vector<double> v = sim.measure_gauges(gauges);
     ASSERT_EQ(v.size(), 1u + 1 + 3 + 3 + 1);
@@ -113,9 +106,9 @@ TEST(Gauges, VerletListsBetweenRebuildsReadWhatTheParticlesSay) {
     Simulation sim(s, o);
     for (int k = 0; k < 150; ++k) sim.step();  // 30 steps after a rebuild, the column moving
     const SnapshotData snap = sim.snapshot();
-    Gauge top = gauge(GaugeKind::max_height, "top", 0.3, 0.1);
+    Gauge top = gauge_at(GaugeKind::max_height, "top", 0.3, 0.1);
     top.radius = 0.05;
-    const std::vector<Gauge> gauges = {gauge(GaugeKind::pressure, "p", 0.3, 0.1, 0.04), top};
+    const std::vector<Gauge> gauges = {gauge_at(GaugeKind::pressure, "p", 0.3, 0.1, 0.04), top};
     const std::vector<double> v = sim.measure_gauges(gauges);
     const double at[3] = {0.3, 0.1, 0.04};
     const Reference ref = reference_at(s, snap, at, top.radius);
@@ -131,7 +124,7 @@ TEST(Gauges, WaterLevelIsWhereTheKernelSummedMassFallsToHalfAParticle) {
     for (int k = 0; k < 20; ++k) sim.step();
     const SnapshotData snap = sim.snapshot();
     const double x = 0.07, y = 0.04;
-    const double level = sim.measure_gauges({gauge(GaugeKind::water_level, "level", x, y)})[0];
+    const double level = sim.measure_gauges({gauge_at(GaugeKind::water_level, "level", x, y)})[0];
     const double threshold = 0.5 * s.params.mass / (s.dp * s.dp * s.dp);
     // Just below the level the mass sum is at least the threshold, just above it is less.
     const double below[3] = {x, y, level - 0.01 * s.dp}, above[3] = {x, y, level + 0.01 * s.dp};
@@ -148,11 +141,11 @@ TEST(Gauges, AFreeFallingBlockFeelsNoForceAndNoPressure) {
     fs::remove(file);
     Simulation sim(s, SolverOptions{});
     while (sim.time() < 0.05) sim.step();  // 1 cm of fall: still clear of the floor
-    Gauge force = gauge(GaugeKind::force, "tank", 0, 0);
+    Gauge force = gauge_at(GaugeKind::force, "tank", 0, 0);
     force.body = "tank";
     const double z_centre = 0.4 - 0.5 * 9.81 * sim.time() * sim.time();
     const std::vector<double> v = sim.measure_gauges(
-        {force, gauge(GaugeKind::pressure, "p", 0.3, 0.3, z_centre), gauge(GaugeKind::velocity, "v", 0.3, 0.3, z_centre)});
+        {force, gauge_at(GaugeKind::pressure, "p", 0.3, 0.3, z_centre), gauge_at(GaugeKind::velocity, "v", 0.3, 0.3, z_centre)});
     EXPECT_EQ(v[0], 0.0);
     EXPECT_EQ(v[1], 0.0);
     EXPECT_EQ(v[2], 0.0);
@@ -162,14 +155,14 @@ TEST(Gauges, AFreeFallingBlockFeelsNoForceAndNoPressure) {
 
 TEST(Gauges, TwoSubdomainsReadWhatOneReads) {
     const Scene s = small_tank();
-    Gauge force = gauge(GaugeKind::force, "tank", 0, 0);
+    Gauge force = gauge_at(GaugeKind::force, "tank", 0, 0);
     force.body = "tank";
-    Gauge top = gauge(GaugeKind::max_height, "top", 0.1, 0.05);
+    Gauge top = gauge_at(GaugeKind::max_height, "top", 0.1, 0.05);
     top.radius = 0.03;
     // Points on both sides of the slab boundary (x = 0.1 splits the fluid in two).
-    const std::vector<Gauge> gauges = {gauge(GaugeKind::water_level, "level", 0.1, 0.05),
-                                       gauge(GaugeKind::pressure, "p", 0.095, 0.05, 0.1),
-                                       gauge(GaugeKind::velocity, "v", 0.105, 0.05, 0.2), force, top};
+    const std::vector<Gauge> gauges = {gauge_at(GaugeKind::water_level, "level", 0.1, 0.05),
+                                       gauge_at(GaugeKind::pressure, "p", 0.095, 0.05, 0.1),
+                                       gauge_at(GaugeKind::velocity, "v", 0.105, 0.05, 0.2), force, top};
     std::vector<std::vector<double>> runs;
     for (int devices : {1, 2}) {
         SolverOptions o;
@@ -200,14 +193,14 @@ TEST(Gauges, GaugesThatDoNotFitTheSceneAreRefusedNamingThem) {
         }
         return std::string();
     };
-    EXPECT_NE(refusal(gauge(GaugeKind::pressure, "p", 0.1, 0.05, 9)).find("gauge 'p' (pressure): z = 9 lies outside"),
+    EXPECT_NE(refusal(gauge_at(GaugeKind::pressure, "p", 0.1, 0.05, 9)).find("gauge 'p' (pressure): z = 9 lies outside"),
               std::string::npos);
-    Gauge body = gauge(GaugeKind::force, "f", 0, 0);
+    Gauge body = gauge_at(GaugeKind::force, "f", 0, 0);
     body.body = "lid";
     EXPECT_NE(refusal(body).find("has no body 'lid'; its bodies are 'tank'"), std::string::npos) << refusal(body);
-    Gauge top = gauge(GaugeKind::max_height, "top", 0.1, 0.05);
+    Gauge top = gauge_at(GaugeKind::max_height, "top", 0.1, 0.05);
     EXPECT_NE(refusal(top).find("radius must be above 0"), std::string::npos);
-    EXPECT_EQ(refusal(gauge(GaugeKind::water_level, "level", 0.1, 0.05, 99)), "");  // z is not read
+    EXPECT_EQ(refusal(gauge_at(GaugeKind::water_level, "level", 0.1, 0.05, 99)), "");  // z is not read
     EXPECT_THROW(gauge_kind("swl"), InputError);
     EXPECT_EQ(gauge_kind("water_level"), GaugeKind::water_level);
 }

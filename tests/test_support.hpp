@@ -5,6 +5,7 @@
 #include <random>
 
 #include "scenes/scene.hpp"
+#include "gauge.hpp"
 #include "simulation.hpp"
 
 namespace sph::test {
@@ -69,6 +70,17 @@ inline double largest_fluid_difference(const std::vector<std::array<double, 3>>&
     for (std::size_t i = n_boundary; i < a.size(); ++i)
         for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs((b[i][k] - shift) - a[i][k]));
     return worst;
+}
+
+// A gauge at (x, y, z) with the other keys at their defaults.
+inline Gauge gauge_at(GaugeKind kind, const std::string& name, double x, double y, double z = 0) {
+    Gauge g;
+    g.kind = kind;
+    g.name = name;
+    g.x = x;
+    g.y = y;
+    g.z = z;
+    return g;
 }
 
 }  // namespace sph::test
