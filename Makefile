@@ -11,7 +11,7 @@ BUILD_F64 ?= build-f64
 PYTHON ?= python3
 
 .PHONY: all deps configure build build-float64 test figures fig3 fig4 fig5 fig6 fig7 fig8 fig9 fig10 multi-gpu cll-vs-vl whole-run \
-        transports table-vl perf-check perf-accept stability skip-bench accuracy reference reference-figures claims clean
+        transports table-vl perf-check perf-accept stability skip-bench accuracy spheric2 reference reference-figures claims clean
 
 all: build
 
@@ -69,6 +69,13 @@ build-float64: deps
 accuracy: build build-float64
 	$(SPHBENCH) run experiments/accuracy.toml --float64-binary $(BUILD_F64)/harness/sphbench
 	$(PYTHON) plots/accuracy.py
+
+# Issue 27: SPHERIC Test 2 (experiments/spheric2.toml) to 2 s at three spacings, water heights and box
+# pressures against the MARIN measurements and run time; DualSPHysics' runs of the same case are drawn
+# beside ours where results/spheric2-dualsphysics/ holds them (`make reference` makes both on a GPU).
+spheric2: build build-float64
+	$(SPHBENCH) run experiments/spheric2.toml --float64-binary $(BUILD_F64)/harness/sphbench
+	$(PYTHON) plots/spheric2.py
 
 # What CI can hold without a GPU (docs/perf-check.md): the work counters of a small suite,
 # exactly; instructions the host backend executes on fixed scenes (callgrind); and each CUDA

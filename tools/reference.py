@@ -106,7 +106,7 @@ class Context:
         self.log_lines = []
         self.harness_skipped = False  # sphbench said "up to date" (its own freshness check)
 
-    def sh(self, argv, log=None, cwd=REPO, check=True):
+    def sh(self, argv, log=None, cwd=REPO, check=True, env=None):
         """Runs argv, echoing its output (and appending it to `log`); returns the exit code."""
         shown = " ".join(shlex.quote(shown_arg(a, i)) for i, a in enumerate(argv))
         print(f"  $ {shown}", flush=True)
@@ -117,7 +117,7 @@ class Context:
                 out.write(f"== {shown}\n")
                 out.flush()
             p = subprocess.Popen([str(a) for a in argv], cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                 text=True, errors="replace")
+                                 text=True, errors="replace", env=env)
             for line in p.stdout:
                 sys.stdout.write("    " + line)
                 if ": up to date (use --force" in line:
@@ -232,6 +232,38 @@ def run_dualsphysics(ctx, d):
         shutil.rmtree(work, ignore_errors=True)
 
 
+SPHERIC2_SPACINGS = ("0.02", "0.01", "0.0075")  # experiments/spheric2.toml's
+SPHERIC2_END_S = "2.0"
+
+
+def run_spheric2(ctx, d):
+    ctx.sh([tool(ctx, "sphbench"), "run", "experiments/spheric2.toml", "--backend", "cuda", "--float64-binary",
+            tool(ctx, "sphbench-f64"), "--out", d, "--quiet"], log=d / "spheric2.log")
+
+
+def run_spheric2_dualsphysics(ctx, d):
+    """DualSPHysics on SPHERIC Test 2 at our spacings, 0 to 2 s (its spheric2/make_case.sh, GenCase on
+    the CPU): run time per simulated second and the water heights of its gauges at H1-H4."""
+    anchor = Path(os.environ["DSPH"])
+    unpack_xz(anchor)
+    work = Path(tempfile.mkdtemp(prefix="dsph-spheric2-"))
+    try:
+        cases = work / "cases"
+        for dp in SPHERIC2_SPACINGS:
+            ctx.sh(["bash", anchor / "spheric2" / "make_case.sh", dp, SPHERIC2_END_S, cases / f"dp{dp}"], log=None)
+        logs = work / "logs"
+        env = dict(os.environ, DSPH_CASES=str(cases), DSPH_WORK=str(work / "scratch"))
+        ctx.sh(["bash", anchor / "run.sh", logs, *[f"dp{dp}" for dp in SPHERIC2_SPACINGS]], log=None, env=env)
+        out = d / "spheric2-dualsphysics"
+        shutil.rmtree(out, ignore_errors=True)
+        out.mkdir(parents=True)
+        for f in logs.iterdir():
+            if f.name in ("summary.txt", "summary.tsv", "env.txt") or f.name.endswith((".Run.out", ".csv")):
+                shutil.copy(f, out / f.name)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
 def run_force_loop_bench(ctx, d):
     ctx.sh([tool(ctx, "sph_bench"), "--benchmark_format=json", f"--benchmark_out={d / 'force_loop_bench.json'}",
             "--benchmark_min_time=0.5"], log=d / "force_loop_bench.txt")
@@ -298,6 +330,7 @@ FIGURES_SINGLE = [  # (script, results folder under the machine's, what it needs
     ("fig4.py", "fig4", "fig4/runs.csv"),
     ("table_vl.py", "cll-vs-vl", "cll-vs-vl/runs.csv"),
     ("accuracy.py", "accuracy", "accuracy/runs.csv"),
+    ("spheric2.py", "spheric2", "spheric2/runs.csv"),
     ("stability.py", "stability", [f"stability/{s}/summary.csv" for s in STABILITY_STUDIES]),  # all four
 ]
 FIGURES_MULTI = [("fig5.py", "multi-gpu", "multi-gpu/runs.csv"), ("fig6.py", "multi-gpu", "multi-gpu/runs.csv"),
@@ -365,6 +398,19 @@ def items(gpus=1):
         Item("accuracy", "accuracy against run time (experiments/accuracy.toml, float64 build too)", "single", 190,
              ["sphbench", "sphbench-f64"], run_accuracy, inputs=["experiments/accuracy.toml"],
              outputs=["accuracy/runs.csv"]),
+        Item("whole-run", "whole events: dam break 1.04M to 1 s, 4.04M to 0.3 s, armadillo 1000 steps "
+             "(experiments/whole-run.toml)", "single", 420, ["sphbench"], sphbench_run("whole-run"),
+             inputs=["experiments/whole-run.toml"], outputs=["whole-run/runs.csv"]),
+        Item("spheric2", "SPHERIC Test 2 to 2 s at three spacings (experiments/spheric2.toml, float64 build too)",
+             "single", 300, ["sphbench", "sphbench-f64"], run_spheric2,
+             inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
+             outputs=["spheric2/runs.csv"]),
+        # sphbench in its stamp, as the dam breaks': DualSPHysics reruns beside every new build of ours.
+        Item("spheric2-dualsphysics", "DualSPHysics v5.4 on SPHERIC Test 2 at the same spacings, to 2 s",
+             "single", 300, ["sphbench"], run_spheric2_dualsphysics,
+             outputs=["spheric2-dualsphysics/summary.tsv"],
+             needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "spheric2", "make_case.sh").is_file()
+             else "DSPH (DualSPHysics' anchor folder with spheric2/make_case.sh) is not set"),
     ]
     estimates = {"stability-cfl": 45, "stability-still-water": 75, "stability-impact": 45, "stability-armadillo": 210}
     for s in STABILITY_STUDIES:

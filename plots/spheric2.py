@@ -1,0 +1,340 @@
+"""Issue 27: SPHERIC Test 2 (Kleefsman et al. 2005), our runs and DualSPHysics' against the MARIN
+measurements: error against run time per run of both codes, with the Pareto front, and the
+time histories of H2, H4 and P1.
+
+Errors, the same for every code:
+  water heights H1-H4: RMS of (simulated - measured) over 0 to the run's end (2 s) at the
+      measurement times, relative to the column's 0.55 m. The measured file's H1 and H3 columns
+      are swapped against SPHERIC's figure (validation/data/kleefsman2005_spheric2.md): its H1 is
+      the probe at x = 1.488 and its H3 the one at x = 0.496, and they are read so. A water-level
+      gauge with no fluid on its line (a dry probe) reads nan in our CSV and the floor in
+      DualSPHysics': both count as 0 m.
+  pressures (ours only: DualSPHysics' case has no pressure gauge): both series resampled to
+      1 ms and smoothed by the same centred 5 ms moving average (SPH pressures are noisy at the
+      time step; the measurement is sampled every ms); a sensor with no fluid over it reads 0.
+      P1-P4: the first impact's peak (the largest value in 0.3-0.8 s) and its time against the
+      measured one; P5-P8: the RMS of the difference over the run, in kPa.
+The run time is seconds per simulated second over the whole run: ours s_per_sim_s (runs.csv),
+DualSPHysics' "Runtime per physical second" (Run.out, in its summary.tsv).
+
+Usage: python3 plots/spheric2.py [--results results/spheric2] [--dualsphysics DIR] [--measured FILE] [--out plots/out]
+  --dualsphysics: a folder of DualSPHysics runs of the case (anchors/dualsphysics/run.sh's LOGDIR:
+  summary.tsv and CASE.GaugesSWL_H1.csv ...; each CASE names its spacing, e.g. dp0.01);
+  default spheric2-dualsphysics beside RESULTS when it exists (`make reference` writes it there).
+Writes spheric2.png/.pdf and spheric2.csv (one row per run of either code) into --out.
+"""
+import re
+from pathlib import Path
+
+import numpy as np
+
+import sphplot
+from sphplot import pd, plt
+
+NAME = "spheric2"
+MEASURED = sphplot.REPO / "validation" / "data" / "kleefsman2005_spheric2.dat"
+COLUMN_HEIGHT = 0.55  # m, the water column at rest: the scale of the water-height errors
+PROBES = ["H1", "H2", "H3", "H4"]
+SENSORS = [f"P{k}" for k in range(1, 9)]
+IMPACT_SENSORS = SENSORS[:4]
+TOP_SENSORS = SENSORS[4:]
+IMPACT_WINDOW = (0.3, 0.8)  # s: the first impact on the box's face (measured P1 peak: 0.415 s)
+RESAMPLE_DT = 0.001        # s
+SMOOTH_S = 0.005           # s, the centred moving average applied to every pressure series
+DSPH_COLOUR, OUR_COLOUR = "#d95f02", "#1f77b4"
+
+
+def read_measured(path):
+    """The measurements as a DataFrame: time, P1-P8 (Pa), H1-H4 (m), H1 and H3 as SPHERIC's figure places them."""
+    path = Path(path)
+    if not path.is_file():
+        raise sphplot.ResultsError(f"{path}, the SPHERIC Test 2 measurements, does not exist.")
+    data = np.loadtxt(path, skiprows=1)
+    if data.ndim != 2 or data.shape[1] != 13:
+        raise sphplot.ResultsError(f"{path} does not have 13 columns (time, P1-P8, H1-H4).")
+    m = pd.DataFrame(data, columns=["time"] + SENSORS + ["H1", "H2", "H3", "H4"])
+    m = m.rename(columns={"H1": "H3", "H3": "H1"})  # the file's swap, undone
+    return m[["time"] + SENSORS + PROBES]
+
+
+def water_height_rms(t, h, measured, end):
+    """RMS of h(t) - measured over [0, end], relative to the column's height (a fraction).
+    measured: a DataFrame of time and the probe's heights."""
+    m = measured[measured["time"] <= end + 1e-9].to_numpy(float)
+    t = np.asarray(t, float)
+    h = np.nan_to_num(np.asarray(h, float), nan=0.0)  # a dry probe is at the floor
+    ok = np.isfinite(t)
+    sim = np.interp(m[:, 0], t[ok], h[ok])
+    return float(np.sqrt(np.mean((sim - m[:, 1]) ** 2)) / COLUMN_HEIGHT)
+
+
+def smoothed(t, p, end):
+    """A pressure series on a 1 ms grid over [0, end], nan as 0, after the centred moving average."""
+    grid = np.arange(0.0, end + RESAMPLE_DT / 2, RESAMPLE_DT)
+    t = np.asarray(t, float)
+    p = np.nan_to_num(np.asarray(p, float), nan=0.0)
+    ok = np.isfinite(t)
+    on_grid = np.interp(grid, t[ok], p[ok])
+    width = max(1, int(round(SMOOTH_S / RESAMPLE_DT)))
+    kernel = np.ones(width) / width
+    padded = np.pad(on_grid, (width // 2, width - 1 - width // 2), mode="edge")
+    return grid, np.convolve(padded, kernel, mode="valid")
+
+
+def first_peak(grid, p):
+    """(peak, time of the peak) within the impact window."""
+    inside = (grid >= IMPACT_WINDOW[0]) & (grid <= IMPACT_WINDOW[1])
+    if not inside.any():
+        return np.nan, np.nan
+    k = np.argmax(np.where(inside, p, -np.inf))
+    return float(p[k]), float(grid[k])
+
+
+def run_errors(series, measured, end):
+    """Errors of one run: series maps H1-H4 (and, for ours, P1-P8) to (times, values)."""
+    row = {}
+    for probe in PROBES:
+        t, h = series[probe]
+        row[f"{probe}_rms"] = water_height_rms(t, h, measured[["time", probe]], end)
+    row["H_rms_mean"] = float(np.mean([row[f"{p}_rms"] for p in PROBES]))
+    for sensor in SENSORS:
+        if sensor not in series:
+            continue
+        grid, ours = smoothed(*series[sensor], end)
+        _, meas = smoothed(measured["time"], measured[sensor], end)
+        if sensor in IMPACT_SENSORS:
+            peak, when = first_peak(grid, ours)
+            mpeak, mwhen = first_peak(grid, meas)
+            row[f"{sensor}_peak_kpa"] = peak / 1e3
+            row[f"{sensor}_peak_err"] = (peak - mpeak) / mpeak
+            row[f"{sensor}_peak_dt_ms"] = (when - mwhen) * 1e3
+        else:
+            row[f"{sensor}_rms_kpa"] = float(np.sqrt(np.mean((ours - meas) ** 2))) / 1e3
+    return row
+
+
+def dp_of(value):
+    """A spacing: a number, or the one a name carries (DualSPHysics' case folders: dp0.01)."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        match = re.search(r"dp([0-9]*\.[0-9]+)", str(value))
+        return float(match.group(1)) if match else np.nan
+
+
+def read_our_gauges(path):
+    """{gauge column: (times, values)} of a <run>_gauges.csv. Each gauge has its own interval:
+    a row holds an empty cell for a gauge not sampled then (dropped here), and nan for one sampled
+    with no fluid where it looks (kept: a dry probe or sensor)."""
+    gauges, _ = sphplot.read_csv_with_metadata(path)
+    sphplot.require_columns(gauges, ["time"] + PROBES, path)
+    raw = pd.read_csv(path, comment=None, skiprows=len(gauges.attrs["meta"]), dtype=str, keep_default_na=False)
+    series = {}
+    for c in PROBES + SENSORS:
+        if c not in gauges.columns:
+            continue
+        sampled = raw[c].str.strip() != ""
+        series[c] = (gauges["time"][sampled].to_numpy(float), gauges[c][sampled].to_numpy(float))
+    return series
+
+
+def our_runs(folder, measured):
+    runs, meta = sphplot.load_runs(folder, NAME)
+    sphplot.require_columns(runs, ["run_id", "s_per_sim_s", "sim_time", "particles"])
+    rows, histories = [], {}
+    for _, run in runs.iterrows():
+        path = Path(runs.attrs["path"]).parent / f"{run['run_id']}_gauges.csv"
+        series = read_our_gauges(path)
+        blew = str(run.get("blow_up", "")).strip() not in ("", "nan")
+        end = min(float(run["sim_time"]), 2.0)
+        row = {"code": "ours", "run": run["run_id"], "dp": dp_of(run.get("set.dp", run["run_id"])),
+               "particles": int(run["particles"]), "s_per_sim_s": float(run["s_per_sim_s"]), "sim_time": end,
+               "precision": run.get("precision", ""), "blew_up": blew}
+        row.update(run_errors(series, measured, end))
+        rows.append(row)
+        histories[("ours", run["run_id"])] = series
+    return rows, histories, runs, meta
+
+
+def read_dsph_gauge(path):
+    g = pd.read_csv(path, sep=";")
+    time = [c for c in g.columns if c.startswith("time")]
+    level = [c for c in g.columns if c.startswith("swlz")]
+    if not time or not level:
+        raise sphplot.ResultsError(f"{path} is not a DualSPHysics water-level gauge (no time or swlz column).")
+    return g[time[0]].to_numpy(float), g[level[0]].to_numpy(float)
+
+
+def dsph_runs(folder, measured):
+    folder = Path(folder)
+    summary = folder / "summary.tsv"
+    if not summary.is_file():
+        raise sphplot.ResultsError(f"{summary} is missing: run anchors/dualsphysics/run.sh into {folder} first.")
+    table = pd.read_csv(summary, sep="\t")
+    rows, histories = [], {}
+    for _, case in table.iterrows():
+        name = str(case["case"])
+        if str(case.get("rc", 0)) not in ("0", "0.0"):
+            continue
+        series = {}
+        for probe in PROBES:
+            series[probe] = read_dsph_gauge(folder / f"{name}.GaugesSWL_{probe}.csv")
+        end = min(float(series["H1"][0][-1]), 2.0)
+        row = {"code": "DualSPHysics", "run": name, "dp": dp_of(name), "particles": int(case["np"]),
+               "s_per_sim_s": float(case["runtime_per_phys_s"]), "sim_time": end, "precision": "float32",
+               "blew_up": False}
+        row.update(run_errors(series, measured, end))
+        rows.append(row)
+        histories[("DualSPHysics", name)] = series
+    return rows, histories
+
+
+def pareto_mask(time, error):
+    """True for runs that no other run matches or beats on both time and error (strictly on one)."""
+    t, e = np.asarray(time, float), np.asarray(error, float)
+    keep = np.isfinite(t) & np.isfinite(e)
+    mask = np.zeros(len(t), bool)
+    for i in np.flatnonzero(keep):
+        dominated = keep & (t <= t[i]) & (e <= e[i]) & ((t < t[i]) | (e < e[i]))
+        mask[i] = not dominated.any()
+    return mask
+
+
+def targets(data):
+    """The issue's targets, one line each: per spacing both codes ran, per probe, ours at least as
+    close and faster; P1's first peak within 20% and 20 ms at our finest spacing."""
+    lines = []
+    ours = data[(data["code"] == "ours") & ~data["blew_up"]]
+    dsph = data[data["code"] == "DualSPHysics"]
+    for _, d in dsph.sort_values("dp", ascending=False).iterrows():
+        same = ours[np.isclose(ours["dp"], d["dp"]) & (ours["precision"].astype(str) != "float64")]
+        if same.empty:
+            continue
+        best = same.sort_values("s_per_sim_s").iloc[0]  # our fastest run at that spacing
+        closer = all(best[f"{p}_rms"] <= d[f"{p}_rms"] for p in PROBES)
+        faster = best["s_per_sim_s"] < d["s_per_sim_s"]
+        probes = ", ".join(f"{p} {100 * best[f'{p}_rms']:.1f}% vs {100 * d[f'{p}_rms']:.1f}%" for p in PROBES)
+        lines.append(f"dp {d['dp']:g}: {best['run']} {best['s_per_sim_s']:.1f} s/sim-s vs DualSPHysics "
+                     f"{d['s_per_sim_s']:.1f}; {probes}: {'MET' if closer and faster else 'NOT MET'}"
+                     f" ({'closer' if closer else 'not closer on every probe'}, {'faster' if faster else 'slower'})")
+    with_p1 = ours[np.isfinite(ours.get("P1_peak_err", pd.Series(np.nan, index=ours.index)))]
+    if not with_p1.empty:
+        finest = with_p1.sort_values(["dp", "s_per_sim_s"]).iloc[0]
+        ok = abs(finest["P1_peak_err"]) <= 0.2 and abs(finest["P1_peak_dt_ms"]) <= 20
+        lines.append(f"P1 first peak at dp {finest['dp']:g} ({finest['run']}): {finest['P1_peak_kpa']:.2f} kPa, "
+                     f"{100 * finest['P1_peak_err']:+.0f}% and {finest['P1_peak_dt_ms']:+.0f} ms against the "
+                     f"measurement: {'MET' if ok else 'NOT MET'} (within 20% and 20 ms)")
+    return lines
+
+
+def draw(data, histories, measured, label, reduced):
+    fig, axes = plt.subplots(2, 2, figsize=(10.5, 7.6))
+    ax = axes[0, 0]
+    for code, colour, marker in (("ours", OUR_COLOUR, "o"), ("DualSPHysics", DSPH_COLOUR, "s")):
+        d = data[(data["code"] == code) & np.isfinite(data["H_rms_mean"])]
+        ax.scatter(d["s_per_sim_s"], 100 * d["H_rms_mean"], color=colour, marker=marker, s=30, zorder=3, label=code)
+        for _, r in d.iterrows():
+            ax.annotate(r["run"], (r["s_per_sim_s"], 100 * r["H_rms_mean"]), textcoords="offset points",
+                        xytext=(4, 3), fontsize=6)
+    front = data[data["pareto"]].sort_values("s_per_sim_s")
+    ax.step(front["s_per_sim_s"], 100 * front["H_rms_mean"], where="post", color="#d62728", lw=1.2, zorder=4)
+    ax.scatter(front["s_per_sim_s"], 100 * front["H_rms_mean"], s=80, facecolors="none", edgecolors="#d62728",
+               lw=1.5, zorder=5, label="Pareto front")
+    ax.set_xscale("log")
+    ax.set_xlabel("run time: seconds per simulated second")
+    ax.set_ylabel("water height error, RMS over H1-H4 (% of 0.55 m)")
+    ax.set_title("Error against run time (0-2 s)", loc="left")
+    ax.legend(frameon=False)
+    shown = [k for k in histories if k[0] == "DualSPHysics"] + [
+        ("ours", r) for r in data[(data["code"] == "ours") & data["run"].str.contains("wendland-lists")
+                                 & ~data["run"].str.contains("float64")]["run"]]
+    for ax, probe in ((axes[0, 1], "H2"), (axes[1, 0], "H4")):
+        ax.plot(measured["time"], measured[probe], color="black", lw=1.0, label="measured (MARIN)")
+        for key in shown:
+            t, h = histories[key][probe]
+            colour = OUR_COLOUR if key[0] == "ours" else DSPH_COLOUR
+            alpha = 0.45 + 0.55 * (1 - _rank(data, key))
+            ax.plot(t, np.nan_to_num(np.asarray(h, float)), color=colour, lw=0.9, alpha=alpha,
+                    ls="-" if key[0] == "ours" else "--", label=f"{key[0]} {key[1]}")
+        ax.set_xlim(0, 2)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel(f"water height at {probe} (m)")
+        ax.set_title(f"{probe} (x = {'0.992' if probe == 'H2' else '2.638'} m)", loc="left")
+    axes[1, 0].legend(frameon=False, fontsize=6)
+    ax = axes[1, 1]
+    grid, meas = smoothed(measured["time"], measured["P1"], 2.0)
+    ax.plot(grid, meas / 1e3, color="black", lw=1.0, label="measured, 5 ms average")
+    for key in shown:
+        if key[0] != "ours" or "P1" not in histories[key]:
+            continue
+        g, p = smoothed(*histories[key]["P1"], 2.0)
+        ax.plot(g, p / 1e3, color=OUR_COLOUR, lw=0.9, alpha=0.45 + 0.55 * (1 - _rank(data, key)),
+                label=f"ours {key[1]}, 5 ms average")
+    ax.set_xlim(0, 2)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("pressure at P1 (kPa)")
+    ax.set_title("P1, box face, z = 0.021 m", loc="left")
+    ax.legend(frameon=False, fontsize=6)
+    fig.suptitle("SPHERIC Test 2 (Kleefsman et al. 2005): ours and DualSPHysics against the measurements",
+                 fontsize=10)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    sphplot.add_footer(fig, label, alert=reduced)
+    return fig
+
+
+def _rank(data, key):
+    """0 for a code's finest spacing, towards 1 for its coarsest: finer runs are drawn darker."""
+    d = data[data["code"] == key[0]]["dp"]
+    dp = data[(data["code"] == key[0]) & (data["run"] == key[1])]["dp"]
+    if d.empty or dp.empty or d.max() == d.min():
+        return 0.0
+    return float((dp.iloc[0] - d.min()) / (d.max() - d.min()))
+
+
+def main(argv=None):
+    import argparse
+    p = argparse.ArgumentParser(prog="spheric2.py", description=__doc__.split("\n\n")[0])
+    p.add_argument("--results", type=Path, default=sphplot.REPO / "results" / NAME,
+                   help="results folder of experiments/spheric2.toml (default: results/spheric2)")
+    p.add_argument("--dualsphysics", type=Path, default=None,
+                   help="DualSPHysics runs of the case (default: spheric2-dualsphysics beside RESULTS when it exists)")
+    p.add_argument("--measured", type=Path, default=MEASURED, help="the MARIN measurements")
+    p.add_argument("--out", type=Path, default=sphplot.REPO / "plots" / "out", help="where the figure goes")
+    args = p.parse_args(argv)
+    measured = read_measured(args.measured)
+    rows, histories, runs, meta = our_runs(args.results, measured)
+    dsph_folder = args.dualsphysics or (args.results.parent / "spheric2-dualsphysics")
+    if args.dualsphysics is not None or dsph_folder.is_dir():
+        more, more_hist = dsph_runs(dsph_folder, measured)
+        rows += more
+        histories.update(more_hist)
+    data = pd.DataFrame(rows)
+    data["pareto"] = pareto_mask(data["s_per_sim_s"], data["H_rms_mean"].where(~data["blew_up"]))
+    label = sphplot.provenance_label(meta, runs)
+    print("SPHERIC Test 2: water-height RMS over 0-2 s (% of 0.55 m), P1 first peak, run time")
+    print(f"  from {args.results}: {label}")
+    for _, r in data.sort_values(["code", "dp", "s_per_sim_s"]).iterrows():
+        probes = " ".join(f"{p} {100 * r[f'{p}_rms']:5.1f}" for p in PROBES)
+        p1 = (f"  P1 {r['P1_peak_kpa']:5.2f} kPa ({100 * r['P1_peak_err']:+.0f}%, {r['P1_peak_dt_ms']:+.0f} ms)"
+              if np.isfinite(r.get("P1_peak_kpa", np.nan)) else "")
+        mark = "  Pareto" if r["pareto"] else "  BLEW UP" if r["blew_up"] else ""
+        print(f"  {r['code']:<12} {r['run']:<30} {r['particles']:>9,} {r['s_per_sim_s']:8.2f} s/sim-s  "
+              f"{probes}{p1}{mark}")
+    for line in targets(data):
+        print("  target: " + line)
+    args.out.mkdir(parents=True, exist_ok=True)
+    csv = args.out / f"{NAME}.csv"
+    with open(csv, "w", encoding="utf-8") as f:
+        f.writelines(f"# {k}: {v}\n" for k, v in meta.items())
+        f.write(f"# filter: pressures resampled to {RESAMPLE_DT * 1e3:g} ms and a centred {SMOOTH_S * 1e3:g} ms "
+                f"moving average, every code and the measurement alike\n")
+        data.to_csv(f, index=False)
+    print(f"wrote {sphplot._shown(csv)}")
+    sphplot.apply_style()
+    fig = draw(data, histories, measured, label, sphplot.is_reduced(meta))
+    sphplot.save_figure(fig, NAME, args.out, description=label)
+    return 0
+
+
+if __name__ == "__main__":
+    sphplot.main_guard(NAME, main)
