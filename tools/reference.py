@@ -500,8 +500,11 @@ def stamp(item, tools, gpus):
         h.update(f"{f}={digest(REPO / f)}\n".encode())
     if item.name == "benchmarks":
         h.update("\n".join(BENCHMARK_CASES).encode())
-    if item.name == "dualsphysics":
+    if item.name in ("dualsphysics", "spheric2-dualsphysics"):
         h.update(digest(Path(os.environ["DSPH"]) / "run.sh").encode())
+    if item.name == "spheric2-dualsphysics":
+        h.update(digest(Path(os.environ["DSPH"]) / "spheric2" / "make_case.sh").encode())
+        h.update(digest(Path(os.environ["DSPH"]) / "spheric2" / "SphericTest2_Def.xml.in").encode())
     if item.name.startswith("figures"):
         for f in sorted((REPO / "plots").glob("*.py")):
             h.update(f"{f.name}={digest(f)}\n".encode())
