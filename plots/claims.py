@@ -256,8 +256,41 @@ def skip_bench(folder, does, skips):
                 _item="skip-bench")
 
 
+def _spheric2(folder):
+    import spheric2
+    if not (folder / "spheric2" / "runs.csv").is_file():
+        raise Missing(folder)
+    dsph = folder / "spheric2-dualsphysics"
+    data, _, _, meta = spheric2.table(folder / "spheric2", dsph if dsph.is_dir() else None,
+                                      spheric2.read_measured(spheric2.MEASURED))
+    return spheric2, data, meta
+
+
+def spheric2_heights(folder):
+    """Per spacing both codes ran: our fastest run against DualSPHysics' on the water heights' RMS."""
+    module, data, meta = _spheric2(folder)
+    cmp = module.comparisons(data)
+    if not cmp:
+        raise Missing("no spacing run by both codes")
+    cases = "; ".join(f"dp {c['dp']:g}: H RMS {100 * c['ours']['H_rms_mean']:.1f}% in {c['ours']['s_per_sim_s']:.1f} "
+                      f"s/sim-s vs {100 * c['dsph']['H_rms_mean']:.1f}% in {c['dsph']['s_per_sim_s']:.1f}" for c in cmp)
+    return dict(cases=cases, n=len(cmp), met=sum(c["closer"] and c["faster"] for c in cmp),
+                closer=sum(c["closer"] for c in cmp), faster=sum(c["faster"] for c in cmp), _meta=meta)
+
+
+def spheric2_p1(folder):
+    """P1's first impact at our finest spacing against the measured peak."""
+    module, data, meta = _spheric2(folder)
+    r = module.finest_p1(data)
+    if r is None:
+        raise Missing("no P1 series")
+    return dict(dp=float(r["dp"]), run=r["run"], kpa=float(r["P1_peak_kpa"]), err=100 * float(r["P1_peak_err"]),
+                dt=float(r["P1_peak_dt_ms"]), _meta=meta)
+
+
 METRICS = {f.__name__: f for f in (cll_vs_vl, fig3_speedup, fig3_best, fig4_change, balance, speedup, speedup_by_size,
-                                   threshold_gain, transports, dualsphysics, skip_bench)}
+                                   threshold_gain, transports, dualsphysics, skip_bench, spheric2_heights,
+                                   spheric2_p1)}
 
 
 # --------------------------------------------------------------------------------------------
