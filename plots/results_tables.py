@@ -58,10 +58,12 @@ class Source:
 
 
 def rel(path):
-    try:
-        return str(Path(path).relative_to(REFERENCE))
-    except ValueError:
-        return str(path)
+    """The path under results/reference/ (or under the folder named `reference` that --reference gave)."""
+    parts = Path(path).parts
+    if "reference" in parts:
+        i = len(parts) - 1 - parts[::-1].index("reference")
+        return "/".join(parts[i + 1:]) or "."
+    return str(path)
 
 
 def machine_of(folder):
