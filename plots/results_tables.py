@@ -90,7 +90,7 @@ def from_item(folder, item):
 
 def from_text(folder, path, gpu=None):
     """Provenance written in a text file's header ('commit 8f24845', 'build a76d41d')."""
-    m = re.search(r"\b(?:commit|build|at) ([0-9a-f]{7,40})\b", Path(path).read_text())
+    m = re.search(r"\b(?:commit|build) ([0-9a-f]{7,40})\b", Path(path).read_text())
     return Source(rel(folder), gpu or claims.gpu_of(Path(folder), None), m.group(1) if m else None)
 
 
@@ -188,7 +188,7 @@ def whole_run(folder):
         for r in runs.to_dict("records"):
             seen.add(r["run_id"])
             rows.append((r, p.name))
-        sources.setdefault(meta.get("git_commit"), from_meta(folder, meta))
+        sources.setdefault(str(meta.get("git_commit"))[:7], from_meta(folder, meta))
     for p in sorted(folder.glob("*.txt")):
         if p.name.endswith(".runs.txt") or not re.match(r"(dambreak|armadillo|bunny)", p.name):
             continue
@@ -199,7 +199,7 @@ def whole_run(folder):
         if r["run_id"] not in seen:
             rows.append((r, p.name + " (the printed summary: its runs.csv did not come back)"))
             s = from_text(folder, p)
-            sources.setdefault(s.commit and claims.git("rev-parse", s.commit) or s.commit, s)
+            sources.setdefault(str(s.commit)[:7], s)
     if not rows:
         raise Missing(f"no run in `results/reference/{rel(folder)}`")
     out = []
@@ -315,12 +315,9 @@ def long_window(folder):
                      f"{s['rebuilds']} of {s['recorded']}" if "rebuilds" in s else "-", f(s.get("bytes"), ",.0f")])
     if not rows:
         raise Missing(f"no run summary in {rel(path)}")
-    commit = claims.git("log", "-1", "--format=%h", "--", str(path))
     src = Source(rel(folder), claims.gpu_of(Path(folder), None), None)
     notes = ["The file records no commit; force-loop-notes.md (change 13) names the build it measured "
              "(`sphbench` the change, `sphbench-plain` the build before it)."]
-    if commit:
-        notes.append(f"Committed to this repository in {commit}.")
     return Table(["build", "search", "steps recorded", "median ms a step", "mean ms a step", "steps with a rebuild",
                   "bytes a particle"], rows, [src], notes)
 
