@@ -264,6 +264,30 @@ def run_spheric2_dualsphysics(ctx, d):
         shutil.rmtree(work, ignore_errors=True)
 
 
+WHOLE_RUN_DSPH = {"1.0": ["dp0045_cubic", "dp0045_wendland_half"], "0.3": ["dp0028_cubic", "dp0028_wendland_half"]}
+
+
+def run_whole_run_dualsphysics(ctx, d):
+    """DualSPHysics' dam breaks over the whole events of experiments/whole-run.toml (1.04M to 1 s,
+    4.04M to 0.3 s): its "Runtime per physical second" beside ours from the same lease."""
+    anchor = Path(os.environ["DSPH"])
+    unpack_xz(anchor)
+    work = Path(tempfile.mkdtemp(prefix="dsph-whole-run-"))
+    try:
+        out = d / "whole-run-dualsphysics"
+        shutil.rmtree(out, ignore_errors=True)
+        out.mkdir(parents=True)
+        for tmax, cases in WHOLE_RUN_DSPH.items():
+            logs = work / f"tmax-{tmax}"
+            env = dict(os.environ, DSPH_EXTRA=f"-tmax:{tmax}", DSPH_WORK=str(work / "scratch"))
+            ctx.sh(["bash", anchor / "run.sh", logs, *cases], log=None, env=env)
+            shutil.copy(logs / "summary.tsv", out / f"summary-tmax-{tmax}.tsv")
+            for f in logs.glob("*.Run.out"):
+                shutil.copy(f, out / f.name)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
 def run_force_loop_bench(ctx, d):
     ctx.sh([tool(ctx, "sph_bench"), "--benchmark_format=json", f"--benchmark_out={d / 'force_loop_bench.json'}",
             "--benchmark_min_time=0.5"], log=d / "force_loop_bench.txt")
@@ -401,6 +425,11 @@ def items(gpus=1):
         Item("whole-run", "whole events: dam break 1.04M to 1 s, 4.04M to 0.3 s, armadillo 1000 steps "
              "(experiments/whole-run.toml)", "single", 420, ["sphbench"], sphbench_run("whole-run"),
              inputs=["experiments/whole-run.toml"], outputs=["whole-run/runs.csv"]),
+        Item("whole-run-dualsphysics", "DualSPHysics v5.4 on the dam breaks' whole events (1.04M to 1 s, 4.04M to 0.3 s)",
+             "single", 450, ["sphbench"], run_whole_run_dualsphysics,
+             outputs=["whole-run-dualsphysics/summary-tmax-0.3.tsv"],
+             needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "run.sh").is_file()
+             else "DSPH (DualSPHysics' anchor folder with run.sh) is not set"),
         Item("spheric2", "SPHERIC Test 2 to 2 s at three spacings (experiments/spheric2.toml, float64 build too)",
              "single", 300, ["sphbench", "sphbench-f64"], run_spheric2,
              inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
@@ -500,7 +529,7 @@ def stamp(item, tools, gpus):
         h.update(f"{f}={digest(REPO / f)}\n".encode())
     if item.name == "benchmarks":
         h.update("\n".join(BENCHMARK_CASES).encode())
-    if item.name in ("dualsphysics", "spheric2-dualsphysics"):
+    if item.name in ("dualsphysics", "spheric2-dualsphysics", "whole-run-dualsphysics"):
         h.update(digest(Path(os.environ["DSPH"]) / "run.sh").encode())
     if item.name == "spheric2-dualsphysics":
         h.update(digest(Path(os.environ["DSPH"]) / "spheric2" / "make_case.sh").encode())
