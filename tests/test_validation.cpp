@@ -90,6 +90,79 @@ TEST(DambreakValidation, FrontIgnoresASingleDropletAheadOfTheSurge) {
     EXPECT_DOUBLE_EQ(surge_front_x(s, 0.04, 0.0, 0.06), 1.02);
 }
 
+// A block of water on a floor: lattice particles (spacing dp) whose volume spans x in [0, L]
+// (the last particle half a spacing inside), z from dp / 2 up (particles at dp, 2 dp, ...; a
+// wall's surface layer would sit at z = 0), y across the line. Its mass-threshold front is L.
+struct WaterBlock {
+    static constexpr double dp = 0.05;
+    static constexpr double mass = 1000 * dp * dp * dp;
+    static constexpr double h = 1.7320508075688772 * dp;  // the scenes' h = sqrt(3) dp
+    SnapshotData state;
+    void add(double x, double y, double z) {
+        state.position.insert(state.position.end(), {x, y, z});
+        state.type.push_back(0);
+    }
+    void block(double L, int layers) {
+        for (double x = L - 0.5 * dp; x > 0; x -= dp)
+            for (int j = -6; j <= 6; ++j)
+                for (int k = 1; k <= layers; ++k) add(x, j * dp, k * dp);
+    }
+    double front() const {
+        return mass_threshold_front_x(state, KernelType::wendland, h, mass, dp, FrontLine{0.0, 2 * dp, 0.25 * dp});
+    }
+};
+
+TEST(DambreakValidation, MassThresholdFrontOfABlockIsItsEnd) {
+    WaterBlock w;
+    w.block(1.0, 8);
+    const double front = w.front();
+    std::printf("block ending at 1.0: front %.5f\n", front);
+    EXPECT_NEAR(front, 1.0, WaterBlock::dp);
+    WaterBlock longer;  // the answer follows the water: a block 4 spacings longer
+    longer.block(1.0 + 4 * WaterBlock::dp, 8);
+    EXPECT_NEAR(longer.front() - front, 4 * WaterBlock::dp, 1e-9);
+    WaterBlock none;  // no water near the line
+    none.add(0.5, 0.0, 1.0);
+    EXPECT_TRUE(std::isnan(none.front()));
+}
+
+// What the experiments would not call the front: a droplet ahead of the water does not move
+// it (the particle front of surge_front_x does follow a pair of particles), and neither does a
+// film one particle thick running on ahead.
+TEST(DambreakValidation, MassThresholdFrontIgnoresDropletsAndAFilmAhead) {
+    constexpr double dp = WaterBlock::dp;
+    WaterBlock w;
+    w.block(1.0, 8);
+    const double front = w.front();
+    WaterBlock droplets = w;
+    droplets.add(1.0 + 6 * dp, 0.0, dp);
+    droplets.add(1.0 + 7 * dp, 0.0, dp);  // a pair: the particle front takes it
+    droplets.add(1.0 + 15 * dp, 0.0, 2 * dp);
+    EXPECT_DOUBLE_EQ(droplets.front(), front);
+    EXPECT_NEAR(surge_front_x(droplets.state, 2 * WaterBlock::h, 0.0, 0.5), 1.0 + 7 * dp, 1e-12);
+    WaterBlock film = w;
+    for (double x = 1.0 + 0.5 * dp; x < 1.5; x += dp)
+        for (int j = -6; j <= 6; ++j) film.add(x, j * dp, dp);
+    EXPECT_NEAR(film.front(), 1.0, dp);
+    WaterBlock two_deep = w;  // a tongue two particles deep is water
+    for (double x = 1.0 + 0.5 * dp; x < 1.5; x += dp)
+        for (int j = -6; j <= 6; ++j)
+            for (int k = 1; k <= 2; ++k) two_deep.add(x, j * dp, k * dp);
+    EXPECT_NEAR(two_deep.front(), 1.5, dp);
+}
+
+// The dam-break scene at rest: the mass-threshold front is the column's width, Z = 1.
+TEST(DambreakValidation, MassThresholdFrontOfTheColumnAtRestIsItsWidth) {
+    const Scene s = make_scene("dambreak", {{"dp", "0.05"}, {"width", "0.25"}, {"length", "1.6"}, {"height", "1.1"}});
+    Simulation sim(s, SolverOptions{});
+    auto metric = dambreak_front_metric().make(s);
+    const std::vector<double> row = metric->sample(sim.snapshot());  // T, Z, Z_particle, ...
+    ASSERT_GE(row.size(), 3u);
+    EXPECT_EQ(row[0], 0.0);
+    EXPECT_NEAR(row[1], 1.0, 0.5 * s.dp / 0.5);
+    EXPECT_NEAR(row[2], 1.0, 1e-6);
+}
+
 TEST(DambreakValidation, RefusesAColumnOfTheWrongShape) {
     const Scene s = make_scene("dambreak", {{"dp", "0.1"}, {"column_height", "0.6"}});
     EXPECT_THROW(dambreak_front_metric().make(s), InputError);
