@@ -45,7 +45,9 @@ double surge_front_x(const SnapshotData& state, double radius, double floor_z, d
 // and front_T_end (the last sample's T). The first five keys keep their order and meaning.
 const ValidationMetricInfo& dambreak_front_metric();
 
-// The published correction for the gate's opening, in T (used by front_rms_published_offset_D).
+// A published correction for the gate's opening, in T (front_rms_published_offset_D): the value
+// issue 27 quotes; we have not traced it to its paper. Reported beside the fitted offset, never
+// applied to the physics.
 constexpr double published_gate_offset_T = 0.175;
 
 }  // namespace sph
