@@ -118,7 +118,7 @@ struct WaterBlock {
                 for (int k = 1; k <= layers; ++k) add(x, j * dp, k * dp);
     }
     double front() const {
-        return mass_threshold_front_x(state, KernelType::wendland, h, mass, dp, FrontLine{0.0, 2 * dp, 0.25 * dp});
+        return mass_threshold_front_x(state, KernelType::wendland, h, mass, dp, floor_front_line(dp, h, 0.0));
     }
 };
 
@@ -138,7 +138,7 @@ TEST(DambreakValidation, MassThresholdFrontOfABlockIsItsEnd) {
 
 // What the experiments would not call the front: a droplet ahead of the water does not move
 // it (the particle front of surge_front_x does follow a pair of particles), and neither does a
-// film one particle thick running on ahead.
+// film one or two particles thick running on ahead; a tongue three particles deep does.
 TEST(DambreakValidation, MassThresholdFrontIgnoresDropletsAndAFilmAhead) {
     constexpr double dp = WaterBlock::dp;
     WaterBlock w;
@@ -150,15 +150,16 @@ TEST(DambreakValidation, MassThresholdFrontIgnoresDropletsAndAFilmAhead) {
     droplets.add(1.0 + 15 * dp, 0.0, 2 * dp);
     EXPECT_DOUBLE_EQ(droplets.front(), front);
     EXPECT_NEAR(surge_front_x(droplets.state, 2 * WaterBlock::h, 0.0, 0.5), 1.0 + 7 * dp, 1e-12);
-    WaterBlock film = w;
-    for (double x = 1.0 + 0.5 * dp; x < 1.5; x += dp)
-        for (int j = -6; j <= 6; ++j) film.add(x, j * dp, dp);
-    EXPECT_NEAR(film.front(), 1.0, dp);
-    WaterBlock two_deep = w;  // a tongue two particles deep is water
-    for (double x = 1.0 + 0.5 * dp; x < 1.5; x += dp)
-        for (int j = -6; j <= 6; ++j)
-            for (int k = 1; k <= 2; ++k) two_deep.add(x, j * dp, k * dp);
-    EXPECT_NEAR(two_deep.front(), 1.5, dp);
+    auto with_tongue = [&](int layers) {  // a tongue `layers` particles deep from x = 1 to 1.5
+        WaterBlock t = w;
+        for (double x = 1.0 + 0.5 * dp; x < 1.5; x += dp)
+            for (int j = -6; j <= 6; ++j)
+                for (int k = 1; k <= layers; ++k) t.add(x, j * dp, k * dp);
+        return t.front();
+    };
+    EXPECT_NEAR(with_tongue(1), 1.0, dp);
+    EXPECT_NEAR(with_tongue(2), 1.0, dp);
+    EXPECT_NEAR(with_tongue(3), 1.5, dp);
 }
 
 // The dam-break scene at rest: the mass-threshold front is the column's width, Z = 1.

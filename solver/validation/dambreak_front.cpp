@@ -79,14 +79,7 @@ public:
         dp_ = scene.dp;
         g_ = -double(scene.params.gravity.z);
         if (!(g_ > 0)) throw InputError("the dam-break front metric needs gravity > 0");
-        // The line: along the middle of the tank's width, 2 dp above the wall's surface layer
-        // (z = 0), i.e. through the fluid's second lattice layer. There a layer of water two
-        // particles deep sums to 0.68 of the threshold's bulk value m / dp^3 (above the 0.5
-        // threshold) and a single layer to 0.25 (below it), while the kernel's floor deficit
-        // leaves thick water at 0.96: the front is where the water is at least two particles
-        // deep, not a film one particle thick, and a line higher up (2.5 dp: 0.49 for two layers)
-        // would lose the thin tongue of a coarse run. Samples every dp / 4 along x.
-        line_ = {0.5 * setting(scene, "width"), 2 * dp_, 0.25 * dp_};
+        line_ = floor_front_line(dp_, h_, 0.5 * setting(scene, "width"));  // the middle of the tank
     }
 
     std::vector<double> sample(const SnapshotData& state) override {
@@ -174,6 +167,8 @@ double mass_front_with(const SnapshotData& s, const Kernel& kernel, double suppo
 }
 
 }  // namespace
+
+FrontLine floor_front_line(double dp, double h, double y) { return {y, dp + h, 0.25 * dp}; }
 
 double mass_threshold_front_x(const SnapshotData& state, KernelType kernel, double h, double particle_mass,
                               double dp, const FrontLine& line) {

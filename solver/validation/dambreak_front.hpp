@@ -16,6 +16,17 @@ struct FrontLine {
     double spacing = 0;   // between samples along x (from x = 0)
 };
 
+// The dam-break metric's line at y: one smoothing length above the fluid's lowest lattice layer
+// (z = dp + h, 2.73 dp at the scenes' h = sqrt(3) dp; the wall's surface layer is at z = 0),
+// sampled every dp / 4. Why there: on a lattice of water at that height, one layer of particles
+// sums to 0.07 of m / dp^3, two to 0.39, three to 0.81 and thick water to 1.00, so the front is
+// where the water is at least three particles deep, and thick water reads in full (at 2 dp the
+// water missing below the floor costs it 4%). Nearer the floor the dynamic boundary's repulsion thins the tongue's lowest
+// layer and the front depends on the line's height: in the host-scale dam break (dp = 0.05 and
+// 0.04 m) it read up to 0.07 in Z less at 2 dp and lost the tongue at 1.5 dp, while between
+// 2.5 and 3 dp it changed by less than 0.01 (above 3.5 dp it falls again as the tongue thins).
+FrontLine floor_front_line(double dp, double h, double y);
+
 // The front as the experiments saw it: the largest x on `line` where the kernel-summed fluid
 // mass sum_j m W(|x - x_j|, h) reaches the water-level gauge's threshold, 0.5 m / dp^3
 // (core/water_mass_threshold.hpp), interpolated between samples. A droplet or a film thinner
