@@ -38,9 +38,9 @@ TEST(ReferenceData, InterpolatesInsideAndRefusesToExtrapolate) {
 
 // A dam break small enough for CI: 10 spacings across the column (a = 0.5 m), 4 across the
 // tank's width, run to T = t sqrt(2g/a) = 2.2 (front near Z = 2.5); 12-16 s on one core. The
-// mass-threshold front measured an RMS of 0.114 against Koshizuka and Oka, 0.118 against
-// Martin and Moyce's 2.25 in column and 0.146 against their 1.125 in one (max 0.17, 0.22,
-// 0.26), behind the data at this resolution (fitted offsets -0.15, -0.08, -0.09 in T); the
+// mass-threshold front measured an RMS of 0.080 against Koshizuka and Oka, 0.092 against
+// Martin and Moyce's 2.25 in column and 0.120 against their 1.125 in one (max 0.13, 0.18,
+// 0.22), behind the data at this resolution (fitted offsets -0.10, -0.04, -0.07 in T); the
 // particle front read 0.078, 0.092 and 0.119. The tolerance, 0.2 RMS: the experiments
 // themselves differ by up to 0.17 in Z for T <= 2.5 (Koshizuka and Oka ahead near T = 1.2,
 // behind near T = 2.5), so a run within that spread of them collapses at the experiments'
