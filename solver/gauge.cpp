@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/water_mass_threshold.hpp"
 
 namespace sph {
 
@@ -107,18 +108,10 @@ std::vector<double> gauge_values(const Gauge& g, const Scene& s, const Grid& gri
         return {a.v[0] / a.v[3], a.v[1] / a.v[3], a.v[2] / a.v[3]};
     case GaugeKind::force: return {a.v[0], a.v[1], a.v[2]};
     case GaugeKind::max_height: return {a.v[3] > 0 ? grid.origin[2] + a.v[0] : nan};
-    case GaugeKind::water_level: {
-        const double threshold = 0.5 * double(s.params.mass) / (s.dp * s.dp * s.dp);
-        const int n = level_samples(s);
-        for (int k = n - 1; k >= 0; --k) {
-            if (sums[k].v[0] < threshold) continue;
-            const double z = s.lo[2] + 0.5 * s.dp * k;
-            if (k == n - 1) return {z};
-            const double above = sums[k + 1].v[0];
-            return {z + 0.5 * s.dp * (sums[k].v[0] - threshold) / (sums[k].v[0] - above)};
-        }
-        return {nan};
-    }
+    case GaugeKind::water_level:
+        return {last_threshold_crossing(std::size_t(level_samples(s)), s.lo[2], 0.5 * s.dp,
+                                        water_mass_threshold(double(s.params.mass), s.dp),
+                                        [&](std::size_t k) { return sums[k].v[0]; })};
     }
     return {nan};
 }

@@ -77,6 +77,52 @@ def test_figure_table_and_summary(tmp):
     assert line and "Pareto" in line, f"no summary line for dambreak-base in:\n{p.stdout}"
 
 
+def test_lead_judgement():
+    # Martin and Moyce's 2.25 in data start at T = 0.832; a run to T = 2.5 spans 1.668 in T.
+    assert accuracy.lead_judgement(0.0, 0.832, 2.5) == "constant shift"
+    assert accuracy.lead_judgement(0.03, 0.832, 2.5) == "constant shift"  # 0.05 in T: under one output interval
+    assert accuracy.lead_judgement(0.1, 0.832, 2.5) == "ours pulls ahead"
+    assert accuracy.lead_judgement(-0.1, 0.832, 2.5) == "ours falls back"
+    assert accuracy.lead_judgement(float("nan"), 0.832, 2.5) == "undefined"
+
+
+def test_time_offsets_table_and_front_panel(tmp):
+    """Runs with the front's offset columns: the printed table, NAME_offsets.csv and the baseline's panel."""
+    folder, out = tmp / "results" / "accuracy", tmp / "out"
+    folder.mkdir(parents=True)
+    keys = [k for k, _, _ in accuracy.FRONT_DATA]
+    cols = ["run_id", "scene", "wall_s", "validation_s", "front_T_end"]
+    for what in ("front_rms_", "front_offset_", "front_rms_offset_", "front_rms_published_offset_",
+                 "front_lead_slope_", "front_particle_rms_"):
+        cols += [what + k for k in keys]
+    # base: a constant lead of +0.15 against every data set; fine: a lead growing at 0.2 per unit T.
+    values = {"dambreak-base": [0.2, 0.25, 0.18, 0.15, 0.16, 0.14, 0.03, 0.04, 0.02, 0.1, 0.12, 0.09, 0.0, 0.01, -0.01,
+                                0.21, 0.26, 0.19],
+              "dambreak-fine": [0.3, 0.35, 0.28, 0.2, 0.2, 0.2, 0.05, 0.06, 0.04, 0.15, 0.16, 0.14, 0.2, 0.2, 0.2,
+                                0.31, 0.36, 0.29]}
+    with open(folder / "runs.csv", "w") as f:
+        f.writelines(f"# {k}: {v}\n" for k, v in META.items())
+        f.write(",".join(cols) + "\n")
+        for run_id, v in values.items():
+            f.write(",".join(map(str, [run_id, "dambreak", 10.0, 1.0, 2.5, *v])) + "\n")
+    with open(folder / "dambreak-base_validation.csv", "w") as f:
+        f.write("step,time,T,Z,Z_particle,Z_martin_moyce,Z_martin_moyce_1125,Z_koshizuka_oka\n")
+        for i in range(11):
+            T = 0.25 * i
+            f.write(f"{i},{T / 6.26},{T},{1 + 0.3 * T * T},{1.02 + 0.3 * T * T},nan,nan,nan\n")
+    p = run("--results", folder, "--out", out)
+    assert p.returncode == 0, f"accuracy.py failed:\n{p.stderr}"
+    base = next((l for l in p.stdout.splitlines() if l.split()[:2] == ["base", "martin_moyce"]), None)
+    assert base and "+0.1500" in base and "0.0300" in base and "0.1000" in base and "constant shift" in base, p.stdout
+    fine = next((l for l in p.stdout.splitlines() if l.split()[:2] == ["fine", "koshizuka_oka"]), None)
+    assert fine and "ours pulls ahead" in fine, p.stdout
+    table, _ = sphplot.read_csv_with_metadata(out / "accuracy_offsets.csv")
+    assert len(table) == 6 and set(table["data"]) == set(keys), table
+    row = table[(table["run_id"] == "dambreak-base") & (table["data"] == "koshizuka_oka")].iloc[0]
+    assert abs(row["rms_published_offset"] - 0.09) < 1e-12 and abs(row["rms_particle_front"] - 0.19) < 1e-12, row
+    assert (out / "accuracy.png").is_file()
+
+
 def test_missing_results_is_one_sentence(tmp):
     p = run("--results", tmp / "nothing", "--out", tmp / "out")
     assert p.returncode == 2 and "Traceback" not in p.stderr, p.stderr
