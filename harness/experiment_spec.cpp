@@ -31,6 +31,15 @@ class SpecReader {
 public:
     explicit SpecReader(std::string path) : path_(std::move(path)) {}
 
+    // A case file named in the spec, relative to the spec's folder (as a path inside a file
+    // means), so that the spec runs from any working directory; absolute paths stay as given.
+    std::string case_scene_in_spec(const std::string& scene) const {
+        const std::filesystem::path file = case_file_of(scene);
+        if (file.is_absolute()) return scene;
+        const std::filesystem::path folder = std::filesystem::path(path_).parent_path();
+        return case_scene_prefix + (folder / file).lexically_normal().string();
+    }
+
     [[noreturn]] void fail(const toml::source_region& where, const std::string& message) const {
         fail_at(long(where.begin.line), message);
     }
@@ -226,6 +235,7 @@ RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index)
     run.scene = r.text(*t, "scene", true, "", "[[runs]]");
     const auto& scenes = scene_catalogue();
     if (is_case_scene(run.scene)) {
+        run.scene = r.case_scene_in_spec(run.scene);
         try {
             load_case_file(case_file_of(run.scene));  // refused here, before any run
         } catch (const InputError& e) {

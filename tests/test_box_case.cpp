@@ -285,6 +285,18 @@ TEST_F(BoxCaseFile, SpecsRunCaseFilesAndRefuseBadOnesAtLoad) {
     }
 }
 
+// A relative case path in a spec is the spec's folder's: the spec loads from any working directory.
+TEST_F(BoxCaseFile, SpecsFindCaseFilesBesideThem) {
+    std::filesystem::create_directories(dir_ / "specs" / "cases");
+    std::filesystem::copy_file(case_path("tank"), dir_ / "specs" / "cases" / "tank.toml");
+    const std::string spec = (dir_ / "specs" / "spec.toml").string();
+    std::ofstream(spec) << "name = \"c\"\nreproduces = \"-\"\nsteps = 2\n[[runs]]\nscene = \"case:cases/tank.toml\"\n";
+    const ExperimentSpec loaded = load_spec(spec);
+    EXPECT_EQ(loaded.runs.at(0).scene, "case:" + (dir_ / "specs" / "cases" / "tank.toml").lexically_normal().string());
+    std::ofstream(spec) << "name = \"c\"\nreproduces = \"-\"\nsteps = 2\n[[runs]]\nscene = \"case:tank.toml\"\n";
+    EXPECT_THROW(load_spec(spec), InputError);  // not beside the spec: refused at load
+}
+
 TEST_F(BoxCaseFile, SimulateRunsACaseFile) {
     std::string message;
     const std::string out = (dir_ / "out").string();
