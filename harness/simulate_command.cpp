@@ -71,7 +71,9 @@ void print_summary(const SceneRunRequest& req, const SceneRunResult& r) {
                     r.cost.rebuild_step_ms(), r.cost.listed_step_ms(), double(r.list_bytes) / double(r.particles));
     if (req.solver.variants != ImplementationVariants{})
         std::printf("implementation variants: %s%s\n", describe_implementation_variants(req.solver.variants).c_str(),
-                    req.solver.backend == BackendKind::cuda ? "" : " (the host backend has one loop each: no effect)");
+                    req.solver.backend == BackendKind::cuda
+                        ? ""
+                        : " (the host backend has one loop each: only list_layout has an effect there)");
     if (r.steps.empty()) return;
     const StepRecord& last = r.steps.back();
     std::printf("window: %zu steps after the %ld warm-up, last dt %.3g s\n", r.steps.size(), req.warmup, last.dt);

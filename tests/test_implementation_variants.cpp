@@ -33,7 +33,7 @@ std::string error_of(ImplementationVariants& v, const std::string& name, const s
 
 TEST(ImplementationVariants, EachEntryHasANameValuesADefaultAndAWhy) {
     const auto& registry = implementation_variant_registry();
-    ASSERT_EQ(registry.size(), 3u);
+    ASSERT_EQ(registry.size(), 4u);
     std::set<std::string> names;
     for (const ImplementationVariant& e : registry) {
         EXPECT_TRUE(names.insert(e.name).second) << e.name << " twice";
@@ -50,7 +50,8 @@ TEST(ImplementationVariants, EachEntryHasANameValuesADefaultAndAWhy) {
     // The default struct holds each registry default.
     const ImplementationVariants defaults;
     for (const ImplementationVariant& e : registry) EXPECT_EQ(implementation_variant_value(defaults, e), e.fallback());
-    EXPECT_EQ(describe_implementation_variants(defaults), "force_loop=auto list_build=auto list_entries=auto");
+    EXPECT_EQ(describe_implementation_variants(defaults),
+              "force_loop=auto list_build=auto list_entries=auto list_layout=auto");
 }
 
 TEST(ImplementationVariants, EveryValueIsSetByNameAndReadBack) {
@@ -73,10 +74,13 @@ TEST(ImplementationVariants, EveryValueIsSetByNameAndReadBack) {
     EXPECT_EQ(v.list_entries, ListEntriesVariant::plain);
     set_implementation_variant(v, "force_loop", "per-thread");
     EXPECT_EQ(v.force_loop, ForceLoopVariant::per_thread);
-    EXPECT_EQ(describe_implementation_variants(v), "force_loop=per-thread list_build=per-lane list_entries=plain");
+    set_implementation_variant(v, "list_layout", "cluster");
+    EXPECT_EQ(v.list_layout, ListLayoutVariant::cluster);
+    EXPECT_EQ(describe_implementation_variants(v),
+              "force_loop=per-thread list_build=per-lane list_entries=plain list_layout=cluster");
     // Several runs: per variant the values used, first seen first.
     EXPECT_EQ(describe_implementation_variants(std::vector<ImplementationVariants>{{}, v, {}}),
-              "force_loop=auto|per-thread list_build=auto|per-lane list_entries=auto|plain");
+              "force_loop=auto|per-thread list_build=auto|per-lane list_entries=auto|plain list_layout=auto|cluster");
 }
 
 TEST(ImplementationVariants, AnUnknownNameOrValueIsOneSentenceNamingIt) {
@@ -84,8 +88,8 @@ TEST(ImplementationVariants, AnUnknownNameOrValueIsOneSentenceNamingIt) {
     const std::string value = error_of(v, "list_build", "per-warp");
     EXPECT_EQ(value, "list_build: 'per-warp' is not one of \"auto\" or \"per-lane\"");
     const std::string name = error_of(v, "force_loops", "auto");
-    EXPECT_EQ(name, "unknown implementation variant 'force_loops' (known: \"force_loop\", \"list_build\" or "
-                    "\"list_entries\")");
+    EXPECT_EQ(name, "unknown implementation variant 'force_loops' (known: \"force_loop\", \"list_build\", "
+                    "\"list_entries\" or \"list_layout\")");
     EXPECT_EQ(v, ImplementationVariants{});
 }
 
@@ -133,7 +137,8 @@ TEST_F(ImplementationVariantRuns, SimulateWritesTheVariantsIntoItsProvenance) {
               exit_ok);
     const CsvTable t = read_csv((dir_ / "tank_steps.csv").string());
     ASSERT_TRUE(t.meta("implementation_variants").has_value());
-    EXPECT_EQ(*t.meta("implementation_variants"), "force_loop=per-thread list_build=auto list_entries=plain");
+    EXPECT_EQ(*t.meta("implementation_variants"),
+              "force_loop=per-thread list_build=auto list_entries=plain list_layout=auto");
 }
 
 TEST_F(ImplementationVariantRuns, AnExperimentRecordsEachRunsVariantAndAllInItsProvenance) {
@@ -153,7 +158,8 @@ TEST_F(ImplementationVariantRuns, AnExperimentRecordsEachRunsVariantAndAllInItsP
     EXPECT_EQ(t.cell(0, "list_build"), "auto");
     EXPECT_EQ(t.cell(1, "list_build"), "per-lane");
     ASSERT_TRUE(t.meta("implementation_variants").has_value());
-    EXPECT_EQ(*t.meta("implementation_variants"), "force_loop=per-thread list_build=auto|per-lane list_entries=auto");
+    EXPECT_EQ(*t.meta("implementation_variants"),
+              "force_loop=per-thread list_build=auto|per-lane list_entries=auto list_layout=auto");
     // A spec's unknown value: exit 2, naming the key.
     std::ofstream(spec) << "name = \"variants\"\nreproduces = \"x\"\nsteps = 2\n[solver]\nlist_entries = \"packed\"\n"
                            "[[runs]]\nscene = \"tank\"\n";

@@ -271,6 +271,7 @@ public:
             throw RunError("Verlet lists on the GPU take grids of at most " + std::to_string(cell_coords_limit) +
                            " cells along an axis; this one has " + std::to_string(g.nx) + " x " + std::to_string(g.ny) +
                            " x " + std::to_string(g.nz) + " (use a cell search: drop --verlet)");
+        if (clustered()) return build_cluster_lists(reach);
         if (list_count_.size() < n_) list_count_.allocate(n_);
         // The listed loop reads every neighbour's cell as coordinates, or, with cell offsets in
         // its entries, positions against the rebuild's cells; advance keeps them from here on.
@@ -294,11 +295,17 @@ public:
     }
     void compute_forces_listed() override {
         use_device();
+        if (clustered()) {
+            const ClusterList list{cluster_index_.data(), cluster_count_.data(), cluster_count(cluster_first_, cluster_end_),
+                                   cluster_first_, cluster_end_};
+            return gpu::compute_forces_cluster_listed(cfg_, inputs(), list, force_.data(), stream_);
+        }
         const NeighbourList list{list_index_.data(), list_count_.data(), n_, list_cell_offsets_};
         gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), active_range(), n_, stream_);
     }
     std::size_t neighbour_list_bytes() const override {
-        return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes() + build_frame_.bytes();
+        return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes() + build_frame_.bytes() +
+               cluster_index_.bytes() + cluster_count_.bytes() + cluster_boxes_.bytes();
     }
 
     void advance(const TimeStep& step) override {
@@ -375,6 +382,40 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
+    bool clustered() const { return cfg_.variants.list_layout == ListLayoutVariant::cluster; }
+    // Cluster lists (list_layout = cluster): the owned particles in clusters of 8, their boxes,
+    // then each cluster's list. The listed loop reads each particle's cell as coordinates, which
+    // advance keeps from here on (no build frame: a cluster entry carries no cell offset).
+    void build_cluster_lists(real reach) {
+        require_open_grid_for_clusters(cfg_);
+        list_cell_offsets_ = false;
+        if (cell_coords_.size() < n_) cell_coords_.allocate(n_);
+        gpu::fill_cell_coords(cell_.data(), pos_.data(), kept_cells(), cfg_.grid, n_, stream_);
+        const std::vector<std::uint32_t> r = cell_starts({owned_[0], owned_[1]});  // synchronises
+        cluster_first_ = r[0];
+        cluster_end_ = r[1];
+        const std::uint32_t nc = cluster_count(cluster_first_, cluster_end_);
+        if (nc == 0) return;
+        if (cluster_boxes_.size() < nc) {
+            cluster_boxes_.allocate(nc + nc / 8);
+            cluster_count_.allocate(nc + nc / 8);
+        }
+        const ForceInputs in = inputs();
+        gpu::fill_cluster_boxes(in, cluster_first_, cluster_end_, cluster_boxes_.data(), stream_);
+        for (int attempt = 0; attempt < 2; ++attempt) {
+            const std::size_t need = std::size_t(cluster_capacity_) * nc;
+            if (cluster_index_.size() < need) {
+                cluster_index_ = DeviceBuffer<std::uint32_t>();  // free first: the lists are the largest buffer
+                cluster_index_.allocate(need + need / 8);
+            }
+            gpu::build_cluster_lists(in, cluster_boxes_.data(), cluster_first_, cluster_end_, reach,
+                                     cluster_index_.data(), cluster_count_.data(), cluster_capacity_, stream_);
+            const std::uint32_t longest =
+                gpu::longest_list(cluster_count_.data(), nc, temp_.data(), temp_bytes_, counters32_.data(), stream_);
+            if (longest <= cluster_capacity_) return;
+            cluster_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
+        }
+    }
     ForceInputs inputs() const {
         const bool kept = keeps_cell_coords();
         return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), fluid_begin_.data(),
@@ -417,6 +458,10 @@ private:
     DeviceBuffer<real4> gauge_force_;        // force gauges: each particle's force
     DeviceBuffer<real4> build_frame_;  // KeptCells::build_frame, while list_cell_offsets_
     bool list_cell_offsets_ = false;   // the lists' entries are ListEntry codes
+    DeviceBuffer<ClusterBox> cluster_boxes_;                 // list_layout = cluster: the rebuild's boxes,
+    DeviceBuffer<std::uint32_t> cluster_index_, cluster_count_;  // lists and counts, of the clusters of
+    std::uint32_t cluster_first_ = 0, cluster_end_ = 0;      // particles [cluster_first_, cluster_end_)
+    std::uint32_t cluster_capacity_ = 64;
     std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
     DeviceBuffer<real4> recv_pos_, recv_velrho_, recv_velrho_prev_;  // the receive area of exchanges

@@ -8,6 +8,7 @@
 #include "backend/steady_phase_clock.hpp"
 #include "backend/subdomain.hpp"
 #include "core/error.hpp"
+#include "physics/cluster_interaction.hpp"
 #include "physics/dispatch.hpp"
 #include "physics/integration.hpp"
 
@@ -154,6 +155,7 @@ public:
         const ForceInputs in = inputs();
         const real reach = cfg_.params.support + skin;
         require_stencil_reach(cfg_, reach);
+        if (clustered()) return build_cluster_lists(reach);
         const std::ptrdiff_t lo = std::ptrdiff_t(owned_lo_), n = std::ptrdiff_t(owned_hi_);
         list_count_.assign(a_.size(), 0);
         std::uint32_t longest = 0;
@@ -176,6 +178,7 @@ public:
     }
 
     void compute_forces_listed() override {
+        if (clustered()) return compute_forces_cluster_listed();
         const ForceInputs in = inputs();
         const NeighbourList list{list_index_.data(), list_count_.data(), std::uint32_t(a_.size())};
         const PhysicsParams p = cfg_.params;
@@ -194,7 +197,9 @@ public:
     }
 
     std::size_t neighbour_list_bytes() const override {
-        return (list_index_.size() + list_count_.size()) * sizeof(std::uint32_t);
+        return (list_index_.size() + list_count_.size() + cluster_index_.size() + cluster_count_.size()) *
+                   sizeof(std::uint32_t) +
+               cluster_boxes_.size() * sizeof(ClusterBox);
     }
 
     void advance(const TimeStep& step) override { advance_range(step, owned_lo_, owned_hi_); }
@@ -280,6 +285,54 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
+    bool clustered() const { return cfg_.variants.list_layout == ListLayoutVariant::cluster; }
+    // Cluster lists (list_layout = cluster): the owned particles in clusters of 8, each
+    // cluster's box, then each cluster's list of clusters within reach.
+    void build_cluster_lists(real reach) {
+        require_open_grid_for_clusters(cfg_);
+        const ForceInputs in = inputs();
+        cluster_first_ = std::uint32_t(owned_lo_);
+        cluster_end_ = std::uint32_t(owned_hi_);
+        const std::uint32_t nc = cluster_count(cluster_first_, cluster_end_);
+        cluster_boxes_.resize(nc);
+        cluster_count_.assign(nc, 0);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(nc); ++k)
+            cluster_boxes_[k] = cluster_box(std::uint32_t(k), cluster_first_, cluster_end_, in.pos, in.velrho, in.cell,
+                                            cfg_.grid);
+        for (int attempt = 0; attempt < 2; ++attempt) {
+            cluster_index_.resize(std::size_t(cluster_capacity_) * nc);
+            std::uint32_t longest = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(max : longest)
+            for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(nc); ++k) {
+                const ClusterBuildWork w =
+                    build_cluster_list(std::uint32_t(k), cluster_boxes_.data(), cluster_first_, cluster_end_,
+                                       in.cell_start, cfg_.grid, reach, cluster_index_.data(), nc, cluster_capacity_);
+                cluster_count_[k] = w.listed;
+                longest = std::max(longest, w.listed);
+            }
+            if (longest <= cluster_capacity_) return;
+            cluster_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
+        }
+    }
+    void compute_forces_cluster_listed() {
+        const ForceInputs in = inputs();
+        const ClusterList list{cluster_index_.data(), cluster_count_.data(), std::uint32_t(cluster_boxes_.size()),
+                               cluster_first_, cluster_end_};
+        const PhysicsParams p = cfg_.params;
+        real4* force = a_.force.data();
+        const std::ptrdiff_t lo = std::ptrdiff_t(cluster_first_), n = std::ptrdiff_t(cluster_end_);
+        dispatch_kernel(cfg_.kernel, cfg_.diffusion, [&](auto k, auto diffusion) {
+            using Kernel = typename decltype(k)::type;
+            const Kernel kernel(p.h);
+#pragma omp parallel for schedule(static)
+            for (std::ptrdiff_t i = lo; i < n; ++i)
+                force[i] = a_.cell[i] < cfg_.grid.out_of_domain()
+                               ? particle_force_cluster_listed<Kernel, decltype(diffusion)::value>(std::uint32_t(i), in,
+                                                                                                  list, p, kernel)
+                               : real4{0, 0, 0, 0};
+        });
+    }
     void advance_range(const TimeStep& step, std::size_t first, std::size_t end) {
         cfg_.integrate_boundary ? advance_loop<true>(step, first, end) : advance_loop<false>(step, first, end);
     }
@@ -331,6 +384,9 @@ private:
     SubdomainConfig cfg_;
     ParticleArrays a_, received_;
     std::vector<std::uint32_t> cell_start_, order_, list_index_, list_count_;
+    std::vector<ClusterBox> cluster_boxes_;  // list_layout = cluster: the rebuild's boxes, lists and counts
+    std::vector<std::uint32_t> cluster_index_, cluster_count_;
+    std::uint32_t cluster_capacity_ = 64, cluster_first_ = 0, cluster_end_ = 0;
     std::vector<real4> grad_c_;  // shifting only: per particle, from compute_forces' gradient pass
     std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;
@@ -348,6 +404,13 @@ void require_stencil_reach(const SubdomainConfig& cfg, real reach) {
     throw RunError("Verlet lists of reach " + std::to_string(reach) + " m (support + skin) need cells of at least " +
                    std::to_string(reach / cfg.search.cells_per_support) + " m, but the grid's are " +
                    std::to_string(std::min({cs.x, cs.y, cs.z})) + " m: pairs beyond the stencil would be missed");
+}
+
+void require_open_grid_for_clusters(const SubdomainConfig& cfg) {
+    if (!cfg.grid.any_periodic()) return;
+    throw RunError("cluster lists (list_layout = cluster) take open grids only, and this scene's grid is periodic "
+                   "along " + std::string(cfg.grid.periodic_x ? "x" : cfg.grid.periodic_y ? "y" : "z") +
+                   "; use list_layout = auto");
 }
 
 std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t) {

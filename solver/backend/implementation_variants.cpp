@@ -16,7 +16,7 @@ std::string quoted_list(const std::vector<std::string>& items) {
 
 }  // namespace
 
-// The measurements each why cites are in docs/force-loop-notes.md (changes 7, 9 and 12).
+// The measurements each why cites are in docs/force-loop-notes.md (changes 7, 9 and 12; 14 for list_layout).
 const std::vector<ImplementationVariant>& implementation_variant_registry() {
     static const std::vector<ImplementationVariant> registry = {
         {"force_loop",
@@ -39,6 +39,13 @@ const std::vector<ImplementationVariant>& implementation_variant_registry() {
          "elsewhere",
          [](const ImplementationVariants& v) { return int(v.list_entries); },
          [](ImplementationVariants& v, int k) { v.list_entries = ListEntriesVariant(k); }},
+        {"list_layout",
+         {"auto", "cluster"},
+         "Verlet-list layout, both backends: auto stores a list per particle; cluster (a prototype, issue 25) stores "
+         "per cluster of 8 sorted particles the clusters whose bounding boxes lie within reach (open grids, one "
+         "subdomain)",
+         [](const ImplementationVariants& v) { return int(v.list_layout); },
+         [](ImplementationVariants& v, int k) { v.list_layout = ListLayoutVariant(k); }},
     };
     return registry;
 }

@@ -6,11 +6,13 @@
 // and a one-line why; the harness's settings table makes a spec key and a `simulate` flag of
 // each and writes them into every result's provenance. A variant travels in SubdomainConfig to
 // the CUDA drivers; none is read from the environment. The host backend has one loop each and
-// ignores them.
+// ignores them, except list_layout, a layout of the lists that both backends build (the host's
+// is the reference the GPU's is tested against).
 //
 // Only variants that are a fallback (needed where the default cannot run) stay here;
 // variants measured slower and not needed otherwise left (docs/force-loop-notes.md, "The
-// variant registry").
+// variant registry"). list_layout = cluster is the exception until it is measured: a prototype
+// (change 14), off by default.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,13 +35,21 @@ enum class ListEntriesVariant : std::uint8_t {
     plain,      // "plain": the neighbour's index only, everywhere
 };
 
+// How the Verlet lists are laid out (both backends).
+enum class ListLayoutVariant : std::uint8_t {
+    automatic,  // "auto": a list per particle (NeighbourList), its neighbours within the reach
+    cluster,    // "cluster": a list per cluster of 8 sorted particles, of clusters (ClusterList)
+};
+
 struct ImplementationVariants {
     ForceLoopVariant force_loop = ForceLoopVariant::automatic;
     ListBuildVariant list_build = ListBuildVariant::automatic;
     ListEntriesVariant list_entries = ListEntriesVariant::automatic;
+    ListLayoutVariant list_layout = ListLayoutVariant::automatic;
     // Spelled out: the CUDA sources that include this are compiled as C++17.
     bool operator==(const ImplementationVariants& o) const {
-        return force_loop == o.force_loop && list_build == o.list_build && list_entries == o.list_entries;
+        return force_loop == o.force_loop && list_build == o.list_build && list_entries == o.list_entries &&
+               list_layout == o.list_layout;
     }
     bool operator!=(const ImplementationVariants& o) const { return !(*this == o); }
 };
@@ -54,7 +64,7 @@ struct ImplementationVariant {
     const std::string& fallback() const { return values.front(); }
 };
 
-// force_loop, list_build, list_entries.
+// force_loop, list_build, list_entries, list_layout.
 const std::vector<ImplementationVariant>& implementation_variant_registry();
 const ImplementationVariant* find_implementation_variant(const std::string& name);
 
@@ -64,7 +74,7 @@ void set_implementation_variant(ImplementationVariants& v, const std::string& na
 const std::string& implementation_variant_value(const ImplementationVariants& v, const ImplementationVariant& entry);
 
 // Every variant as name=value, in the registry's order: "force_loop=auto list_build=per-lane
-// list_entries=auto" (what provenance records).
+// list_entries=auto list_layout=auto" (what provenance records).
 std::string describe_implementation_variants(const ImplementationVariants& v);
 // Several runs' variants in one line: per variant the values the runs used, in the order they
 // first appear, joined by '|': "force_loop=auto|per-thread list_build=auto list_entries=auto".

@@ -135,6 +135,8 @@ public:
 
 // Throws RunError when the grid's cells are too small for lists of this reach.
 void require_stencil_reach(const SubdomainConfig& cfg, real reach);
+// Throws RunError, one sentence, when cluster lists are asked for on a periodic grid.
+void require_open_grid_for_clusters(const SubdomainConfig& cfg);
 
 std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t capacity);
 // Throws RunError naming the need and the free memory when the scene does not fit.

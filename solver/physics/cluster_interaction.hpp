@@ -1,0 +1,87 @@
+#pragma once
+// The force loop over cluster pair lists (neighbours/particle_clusters.hpp), written once for
+// both backends: particle i walks the list of its cluster and, in each listed cluster, every
+// particle but itself, through the same pair sums as every other loop (PairSums). Between
+// rebuilds each pair's separation comes from both particles' cells as the listed loop forms it
+// (cell coordinates kept by the integration where the inputs have them, else decoded).
+//
+// Clusters ascend in the list and particles ascend in a cluster, so particle i meets its
+// neighbours in ascending index order: the order a per-particle list built on an open grid
+// holds them in (its stencil's columns and z-runs ascend in cell order), so both layouts give
+// the same sums on the host.
+#include "neighbours/particle_clusters.hpp"
+#include "physics/interaction.hpp"
+
+namespace sph {
+
+// Cluster lists: cluster c's k-th listed cluster at index[k * stride + c] (a column per list
+// position, so that consecutive clusters read one column coalesced), count[c] of them; the
+// clusters cover particles [first, end) (cluster_count()).
+struct ClusterList {
+    const std::uint32_t* index;
+    const std::uint32_t* count;
+    std::uint32_t stride;
+    std::uint32_t first, end;
+};
+
+// Particle i's sums over its cluster's list. Choices are the listed loop's (ListedLoopDefaults
+// on the host, a GPU's launch policy there): packed_cells, early_loads and whole_loads apply;
+// entry_offsets and index_lookahead do not (a cluster entry carries no cell offset). Open grids
+// only (the backends refuse periodic ones with this layout).
+template <class Kernel, bool Diffusion, class Choices = ListedLoopDefaults>
+SPH_HD real4 particle_force_cluster_listed(std::uint32_t i, const ForceInputs& in, const ClusterList& list,
+                                           const PhysicsParams& p, const Kernel& kernel) {
+    static_assert(!Choices::whole_loads || Choices::early_loads, "whole_loads are early loads");
+    PairSums<Kernel, Diffusion> sums(i, in, p, kernel);
+    const auto cell_of = [&](std::uint32_t k) {
+        if constexpr (Choices::packed_cells) {
+            const CellCoords c = in.cell_coords[k];
+            return int3v{c.x, c.y, c.z};
+        } else {
+            return in.grid.decode(in.cell[k]);
+        }
+    };
+    const int3v ci = cell_of(i);
+    const std::uint32_t c = (i - list.first) / cluster_size;
+    const std::uint32_t n = list.count[c];
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const std::uint32_t j0 = list.first + list.index[std::size_t(k) * list.stride + c] * cluster_size;
+        const std::uint32_t j1 = list.end - j0 < cluster_size ? list.end : j0 + cluster_size;
+        for (std::uint32_t j = j0; j < j1; ++j) {
+            if (j == i) continue;
+            const int3v cj = cell_of(j);
+            const real4 pos_j = Choices::whole_loads ? load_whole(in.pos, j) : in.pos[j];
+            const real3 rij = separation(sums.side.pos, pos_j, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
+            if constexpr (Choices::whole_loads) sums.add_loaded(j, pos_j, load_whole(in.velrho, j), rij, dot(rij, rij));
+            else if constexpr (Choices::early_loads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
+            else sums.add(j, rij, dot(rij, rij));
+        }
+    }
+    return sums.result();
+}
+
+// Work counters of particle i's walk: the pairs it tests (candidates: every particle of every
+// listed cluster but itself) and those inside the support (neighbours), as the walk sees them.
+SPH_HD SearchWork particle_cluster_work(std::uint32_t i, const ForceInputs& in, const ClusterList& list,
+                                        const PhysicsParams& p) {
+    SearchWork w;
+    const int3v ci = in.grid.decode(in.cell[i]);
+    const real4 pos_i = in.pos[i];
+    const std::uint32_t c = (i - list.first) / cluster_size;
+    w.ranges = list.count[c];
+    for (std::uint32_t k = 0; k < list.count[c]; ++k) {
+        const std::uint32_t j0 = list.first + list.index[std::size_t(k) * list.stride + c] * cluster_size;
+        const std::uint32_t j1 = list.end - j0 < cluster_size ? list.end : j0 + cluster_size;
+        for (std::uint32_t j = j0; j < j1; ++j) {
+            if (j == i) continue;
+            const int3v cj = in.grid.decode(in.cell[j]);
+            const real3 rij = separation(pos_i, in.pos[j], cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
+            const real r2 = dot(rij, rij);
+            ++w.candidates;
+            if (r2 < p.support2 && r2 > real(1e-18) * p.support2) ++w.neighbours;
+        }
+    }
+    return w;
+}
+
+}  // namespace sph
