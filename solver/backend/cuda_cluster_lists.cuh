@@ -1,7 +1,7 @@
 #pragma once
 // Drivers of the cluster pair lists (cuda_cluster_lists.cu; list_layout = cluster, change 14 of
-// docs/force-loop-notes.md): each cluster's bounding box, each cluster's list of clusters, and
-// the force loop over them.
+// docs/force-loop-notes.md): the clusters of the sorted particles and their boxes, each
+// cluster's list of clusters, and the force loop over them.
 #include <cuda_runtime.h>
 
 #include "backend/cuda_launch.cuh"
@@ -10,15 +10,23 @@
 
 namespace sph::gpu {
 
-// The boxes of the clusters of particles [first, end) (cluster_count(first, end) of them).
-void fill_cluster_boxes(const ForceInputs& in, std::uint32_t first, std::uint32_t end, ClusterBox* boxes,
-                        cudaStream_t s);
-// Writes each cluster's list (column k of cluster c at index[k * stride + c], stride the cluster
-// count) and count; the caller reduces the counts (longest_list) and grows the capacity.
-void build_cluster_lists(const ForceInputs& in, const ClusterBox* boxes, std::uint32_t first, std::uint32_t end,
-                         real reach, std::uint32_t* index, std::uint32_t* count, std::uint32_t capacity,
-                         cudaStream_t s);
-// The force loop over the cluster lists, one thread per particle of [list.first, list.end).
+// Temporary bytes count_clusters needs for a grid of `columns` (x, y) columns.
+std::size_t cluster_scan_temp_bytes(std::uint32_t columns);
+// Each column's cluster count (column_count, columns + 1 entries, the last one zero) and their
+// exclusive sum (column_first): the first cluster of each column, and at [columns] how many
+// clusters there are, which it returns (synchronises the stream).
+std::uint32_t count_clusters(const ForceInputs& in, std::uint32_t* column_count, std::uint32_t* column_first,
+                             void* temp, std::size_t temp_bytes, cudaStream_t s);
+// Each cluster's first particle (cluster_begin, clusters + 1 entries, the last one the particles
+// inside the domain), each particle's cluster (cluster_of) and each cluster's box.
+void fill_clusters(const ForceInputs& in, const std::uint32_t* column_first, std::uint32_t clusters,
+                   std::uint32_t* cluster_begin, std::uint32_t* cluster_of, ClusterBox* boxes, cudaStream_t s);
+// Writes each cluster's list (column k of cluster c at index[k * clusters + c]) and count; the
+// caller reduces the counts (longest_list) and grows the capacity.
+void build_cluster_lists(const ForceInputs& in, const ClusterBox* boxes, const std::uint32_t* cluster_of,
+                         std::uint32_t clusters, real reach, std::uint32_t* index, std::uint32_t* count,
+                         std::uint32_t capacity, cudaStream_t s);
+// The force loop over the cluster lists, one thread per particle of [0, list.end).
 void compute_forces_cluster_listed(const SubdomainConfig& cfg, const ForceInputs& in, const ClusterList& list,
                                    real4* force, cudaStream_t s);
 

@@ -296,8 +296,8 @@ public:
     void compute_forces_listed() override {
         use_device();
         if (clustered()) {
-            const ClusterList list{cluster_index_.data(), cluster_count_.data(), cluster_count(cluster_first_, cluster_end_),
-                                   cluster_first_, cluster_end_};
+            const ClusterList list{cluster_index_.data(), cluster_count_.data(), clusters_, cluster_of_.data(),
+                                   cluster_begin_.data(), cluster_end_};
             return gpu::compute_forces_cluster_listed(cfg_, inputs(), list, force_.data(), stream_);
         }
         const NeighbourList list{list_index_.data(), list_count_.data(), n_, list_cell_offsets_};
@@ -305,7 +305,8 @@ public:
     }
     std::size_t neighbour_list_bytes() const override {
         return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes() + build_frame_.bytes() +
-               cluster_index_.bytes() + cluster_count_.bytes() + cluster_boxes_.bytes();
+               cluster_index_.bytes() + cluster_count_.bytes() + cluster_boxes_.bytes() + cluster_begin_.bytes() +
+               cluster_of_.bytes() + column_count_.bytes() + column_first_.bytes();
     }
 
     void advance(const TimeStep& step) override {
@@ -383,33 +384,43 @@ public:
 
 private:
     bool clustered() const { return cfg_.variants.list_layout == ListLayoutVariant::cluster; }
-    // Cluster lists (list_layout = cluster): the owned particles in clusters of 8, their boxes,
-    // then each cluster's list. The listed loop reads each particle's cell as coordinates, which
-    // advance keeps from here on (no build frame: a cluster entry carries no cell offset).
+    // Cluster lists (list_layout = cluster): the particles inside the domain in clusters of at
+    // most 8 along each column's segments, their boxes, then each cluster's list. The listed
+    // loop reads each particle's cell as coordinates, which advance keeps from here on (no build
+    // frame: a cluster entry carries no cell offset).
     void build_cluster_lists(real reach) {
         require_open_grid_for_clusters(cfg_);
         list_cell_offsets_ = false;
         if (cell_coords_.size() < n_) cell_coords_.allocate(n_);
         gpu::fill_cell_coords(cell_.data(), pos_.data(), kept_cells(), cfg_.grid, n_, stream_);
-        const std::vector<std::uint32_t> r = cell_starts({owned_[0], owned_[1]});  // synchronises
-        cluster_first_ = r[0];
-        cluster_end_ = r[1];
-        const std::uint32_t nc = cluster_count(cluster_first_, cluster_end_);
-        if (nc == 0) return;
-        if (cluster_boxes_.size() < nc) {
-            cluster_boxes_.allocate(nc + nc / 8);
-            cluster_count_.allocate(nc + nc / 8);
+        const std::uint32_t columns = std::uint32_t(cfg_.grid.nx) * std::uint32_t(cfg_.grid.ny);
+        if (column_first_.size() < columns + 1) {
+            column_count_.allocate(columns + 1);
+            column_first_.allocate(columns + 1);
+            cluster_scan_temp_.allocate(gpu::cluster_scan_temp_bytes(columns));
         }
         const ForceInputs in = inputs();
-        gpu::fill_cluster_boxes(in, cluster_first_, cluster_end_, cluster_boxes_.data(), stream_);
+        const std::uint32_t nc = gpu::count_clusters(in, column_count_.data(), column_first_.data(),
+                                                     cluster_scan_temp_.data(), cluster_scan_temp_.bytes(), stream_);
+        clusters_ = nc;
+        cluster_end_ = cell_starts({cfg_.grid.cell_count()})[0];  // the particles inside the domain
+        if (cluster_boxes_.size() < nc || cluster_of_.size() < n_) {
+            cluster_boxes_.allocate(nc + nc / 8);
+            cluster_count_.allocate(nc + nc / 8);
+            cluster_begin_.allocate(nc + nc / 8 + 1);
+            cluster_of_.allocate(pos_.size());
+        }
+        gpu::fill_clusters(in, column_first_.data(), nc, cluster_begin_.data(), cluster_of_.data(),
+                           cluster_boxes_.data(), stream_);
+        if (nc == 0) return;
         for (int attempt = 0; attempt < 2; ++attempt) {
             const std::size_t need = std::size_t(cluster_capacity_) * nc;
             if (cluster_index_.size() < need) {
                 cluster_index_ = DeviceBuffer<std::uint32_t>();  // free first: the lists are the largest buffer
                 cluster_index_.allocate(need + need / 8);
             }
-            gpu::build_cluster_lists(in, cluster_boxes_.data(), cluster_first_, cluster_end_, reach,
-                                     cluster_index_.data(), cluster_count_.data(), cluster_capacity_, stream_);
+            gpu::build_cluster_lists(in, cluster_boxes_.data(), cluster_of_.data(), nc, reach, cluster_index_.data(),
+                                     cluster_count_.data(), cluster_capacity_, stream_);
             const std::uint32_t longest =
                 gpu::longest_list(cluster_count_.data(), nc, temp_.data(), temp_bytes_, counters32_.data(), stream_);
             if (longest <= cluster_capacity_) return;
@@ -458,10 +469,12 @@ private:
     DeviceBuffer<real4> gauge_force_;        // force gauges: each particle's force
     DeviceBuffer<real4> build_frame_;  // KeptCells::build_frame, while list_cell_offsets_
     bool list_cell_offsets_ = false;   // the lists' entries are ListEntry codes
-    DeviceBuffer<ClusterBox> cluster_boxes_;                 // list_layout = cluster: the rebuild's boxes,
-    DeviceBuffer<std::uint32_t> cluster_index_, cluster_count_;  // lists and counts, of the clusters of
-    std::uint32_t cluster_first_ = 0, cluster_end_ = 0;      // particles [cluster_first_, cluster_end_)
-    std::uint32_t cluster_capacity_ = 64;
+    // list_layout = cluster: the rebuild's clusters (ClusterList), their boxes and lists, and the
+    // columns' cluster counts and first clusters.
+    DeviceBuffer<ClusterBox> cluster_boxes_;
+    DeviceBuffer<std::uint32_t> cluster_index_, cluster_count_, cluster_begin_, cluster_of_, column_count_, column_first_;
+    DeviceBuffer<unsigned char> cluster_scan_temp_;
+    std::uint32_t clusters_ = 0, cluster_end_ = 0, cluster_capacity_ = 64;
     std::uint32_t list_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
     DeviceBuffer<real4> recv_pos_, recv_velrho_, recv_velrho_prev_;  // the receive area of exchanges

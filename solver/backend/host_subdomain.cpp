@@ -197,7 +197,8 @@ public:
     }
 
     std::size_t neighbour_list_bytes() const override {
-        return (list_index_.size() + list_count_.size() + cluster_index_.size() + cluster_count_.size()) *
+        return (list_index_.size() + list_count_.size() + cluster_index_.size() + cluster_count_.size() +
+                cluster_of_.size() + cluster_begin_.size() + column_first_.size()) *
                    sizeof(std::uint32_t) +
                cluster_boxes_.size() * sizeof(ClusterBox);
     }
@@ -286,28 +287,39 @@ public:
 
 private:
     bool clustered() const { return cfg_.variants.list_layout == ListLayoutVariant::cluster; }
-    // Cluster lists (list_layout = cluster): the owned particles in clusters of 8, each
-    // cluster's box, then each cluster's list of clusters within reach.
+    // Cluster lists (list_layout = cluster): the particles inside the domain in clusters of at
+    // most 8 along each column's segments, each cluster's box, then each cluster's list.
     void build_cluster_lists(real reach) {
         require_open_grid_for_clusters(cfg_);
         const ForceInputs in = inputs();
-        cluster_first_ = std::uint32_t(owned_lo_);
-        cluster_end_ = std::uint32_t(owned_hi_);
-        const std::uint32_t nc = cluster_count(cluster_first_, cluster_end_);
+        const GridView& g = cfg_.grid;
+        const std::uint32_t columns = std::uint32_t(g.nx) * std::uint32_t(g.ny);
+        column_first_.assign(columns + 1, 0);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t col = 0; col < std::ptrdiff_t(columns); ++col)
+            column_first_[col] = column_cluster_count(std::uint32_t(col), in.cell_start, g.nz);
+        std::exclusive_scan(column_first_.begin(), column_first_.end(), column_first_.begin(), 0u);
+        const std::uint32_t nc = column_first_[columns];
+        cluster_end_ = cell_start_[g.cell_count()];
+        cluster_begin_.assign(nc + 1, cluster_end_);
+        cluster_of_.assign(cluster_end_, 0);
+#pragma omp parallel for schedule(static)
+        for (std::ptrdiff_t col = 0; col < std::ptrdiff_t(columns); ++col)
+            fill_column_clusters(std::uint32_t(col), in.cell_start, g.nz, column_first_[col], cluster_begin_.data(),
+                                 cluster_of_.data());
         cluster_boxes_.resize(nc);
         cluster_count_.assign(nc, 0);
 #pragma omp parallel for schedule(static)
         for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(nc); ++k)
-            cluster_boxes_[k] = cluster_box(std::uint32_t(k), cluster_first_, cluster_end_, in.pos, in.velrho, in.cell,
-                                            cfg_.grid);
+            cluster_boxes_[k] = cluster_box(cluster_begin_[k], cluster_begin_[k + 1], in.pos, in.velrho, in.cell, g);
         for (int attempt = 0; attempt < 2; ++attempt) {
             cluster_index_.resize(std::size_t(cluster_capacity_) * nc);
             std::uint32_t longest = 0;
 #pragma omp parallel for schedule(dynamic, 256) reduction(max : longest)
             for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(nc); ++k) {
-                const ClusterBuildWork w =
-                    build_cluster_list(std::uint32_t(k), cluster_boxes_.data(), cluster_first_, cluster_end_,
-                                       in.cell_start, cfg_.grid, reach, cluster_index_.data(), nc, cluster_capacity_);
+                const ClusterBuildWork w = build_cluster_list(std::uint32_t(k), cluster_boxes_.data(), cluster_of_.data(),
+                                                              in.cell_start, g, reach, cluster_index_.data(), nc,
+                                                              cluster_capacity_);
                 cluster_count_[k] = w.listed;
                 longest = std::max(longest, w.listed);
             }
@@ -318,15 +330,15 @@ private:
     void compute_forces_cluster_listed() {
         const ForceInputs in = inputs();
         const ClusterList list{cluster_index_.data(), cluster_count_.data(), std::uint32_t(cluster_boxes_.size()),
-                               cluster_first_, cluster_end_};
+                               cluster_of_.data(), cluster_begin_.data(), cluster_end_};
         const PhysicsParams p = cfg_.params;
         real4* force = a_.force.data();
-        const std::ptrdiff_t lo = std::ptrdiff_t(cluster_first_), n = std::ptrdiff_t(cluster_end_);
+        const std::ptrdiff_t n = std::ptrdiff_t(cluster_end_);
         dispatch_kernel(cfg_.kernel, cfg_.diffusion, [&](auto k, auto diffusion) {
             using Kernel = typename decltype(k)::type;
             const Kernel kernel(p.h);
 #pragma omp parallel for schedule(static)
-            for (std::ptrdiff_t i = lo; i < n; ++i)
+            for (std::ptrdiff_t i = 0; i < n; ++i)
                 force[i] = a_.cell[i] < cfg_.grid.out_of_domain()
                                ? particle_force_cluster_listed<Kernel, decltype(diffusion)::value>(std::uint32_t(i), in,
                                                                                                   list, p, kernel)
@@ -384,9 +396,10 @@ private:
     SubdomainConfig cfg_;
     ParticleArrays a_, received_;
     std::vector<std::uint32_t> cell_start_, order_, list_index_, list_count_;
-    std::vector<ClusterBox> cluster_boxes_;  // list_layout = cluster: the rebuild's boxes, lists and counts
-    std::vector<std::uint32_t> cluster_index_, cluster_count_;
-    std::uint32_t cluster_capacity_ = 64, cluster_first_ = 0, cluster_end_ = 0;
+    // list_layout = cluster: the rebuild's clusters (ClusterList), their boxes and lists.
+    std::vector<ClusterBox> cluster_boxes_;
+    std::vector<std::uint32_t> cluster_index_, cluster_count_, cluster_of_, cluster_begin_, column_first_;
+    std::uint32_t cluster_capacity_ = 64, cluster_end_ = 0;
     std::vector<real4> grad_c_;  // shifting only: per particle, from compute_forces' gradient pass
     std::uint32_t list_capacity_ = 64;
     std::vector<std::uint64_t> keys_;

@@ -1,12 +1,25 @@
 #pragma once
 // Cluster pair lists (GROMACS' NBNXM in miniature, issue 25): the particles of a subdomain, in
-// the sorted (cell, id) order, form clusters of cluster_size consecutive particles, cluster k =
-// [first + 8k, min(first + 8k + 8, end)). Each rebuild gives every cluster its axis-aligned
-// bounding box, and each cluster a list of the clusters whose box comes closer to its own than
-// the list's reach (support + skin). Any pair (i, j) closer than the reach then lies in clusters
-// that list each other, since two boxes are no farther apart than any two of their members. A
-// list holds one 4-byte entry per listed cluster of 8 particles, where a per-particle Verlet
-// list holds one per neighbour, and a build tests boxes, not particles.
+// the sorted (cell, id) order, form clusters of at most cluster_size consecutive particles. Each
+// rebuild gives every cluster its axis-aligned bounding box, and each cluster a list of the
+// clusters whose box comes closer to its own than the list's reach (support + skin). Any pair
+// (i, j) closer than the reach then lies in clusters that list each other, since two boxes are no
+// farther apart than any two of their members. A list holds one 4-byte entry per listed cluster
+// of up to 8 particles, where a per-particle Verlet list holds one per neighbour, and a build
+// tests boxes, not particles.
+//
+// Clusters do not cross a gap: a segment is a run of non-empty cells of one (x, y) column (one
+// contiguous particle range, z ascending), and each segment is cut into clusters of 8 from its
+// start, the last one shorter. Eight particles straight from the sorted order would put, once
+// per column, a cluster across the jump from one column's top to the next one's bottom (or, in a
+// wall's row, across the whole tank): its box then spans the water's height, and on DualSPHysics'
+// dam break at rest such clusters listed up to 14,000 clusters where the median lists ~60
+// (change 14 of docs/force-loop-notes.md).
+//
+// What a rebuild makes: each column's cluster count (column_cluster_count), their exclusive sum
+// over the columns (the first cluster of each column), then per column its clusters' first
+// particles and each particle's cluster (fill_column_clusters), each cluster's box (cluster_box)
+// and each cluster's list (build_cluster_list). Clusters are numbered in particle order.
 //
 // Open grids only: a box in absolute coordinates has no image across a periodic face (the
 // backends refuse periodic grids with this layout).
@@ -22,31 +35,60 @@ constexpr std::uint32_t cluster_size = 8;
 // A cluster's bounding box in coordinates from the grid's low corner (cell * cell size +
 // offset). lo.w is 1 where the cluster holds a fluid particle, 0 where it holds walls only: two
 // wall-only clusters have no pair that does anything (walls gather from fluid only), so neither
-// lists the other. A cluster with no particle inside the domain has lo > hi and lists nothing.
+// lists the other.
 struct alignas(16) ClusterBox {
     real4 lo, hi;
     SPH_HD bool has_fluid() const { return lo.w > real(0.5); }
 };
 
-// How many clusters cover particles [first, end).
-SPH_HD std::uint32_t cluster_count(std::uint32_t first, std::uint32_t end) {
-    return end > first ? (end - first + cluster_size - 1) / cluster_size : 0;
+// The particles of the grid's column `column` (x * ny + y) lie in cells [column * nz, column * nz
+// + nz). f(begin, end) for each of its segments (runs of non-empty cells), z ascending.
+template <class F>
+SPH_HD void for_each_segment(std::uint32_t column, const std::uint32_t* cell_start, int nz, F&& f) {
+    const std::uint32_t c0 = column * std::uint32_t(nz);
+    std::uint32_t begin = cell_start[c0];
+    for (std::uint32_t z = 0; z < std::uint32_t(nz); ++z) {
+        const std::uint32_t b = cell_start[c0 + z], e = cell_start[c0 + z + 1];
+        if (b == e) {  // an empty cell ends the segment before it
+            if (begin < b) f(begin, b);
+            begin = e;
+        }
+    }
+    const std::uint32_t end = cell_start[c0 + std::uint32_t(nz)];
+    if (begin < end) f(begin, end);
 }
 
-// The box of cluster k of [first, end): its particles' positions against their cells (pos) and
-// their cells (cell, linear indices of the last sort). Particles outside the domain (cell past
-// the grid) are left out.
-SPH_HD ClusterBox cluster_box(std::uint32_t k, std::uint32_t first, std::uint32_t end, const real4* pos,
-                              const real4* velrho, const std::uint32_t* cell, const GridView& g) {
+// How many clusters the column's segments make.
+SPH_HD std::uint32_t column_cluster_count(std::uint32_t column, const std::uint32_t* cell_start, int nz) {
+    std::uint32_t n = 0;
+    for_each_segment(column, cell_start, nz,
+                     [&](std::uint32_t b, std::uint32_t e) { n += (e - b + cluster_size - 1) / cluster_size; });
+    return n;
+}
+
+// Writes the column's clusters, numbered from first_cluster: cluster_begin[k] (the first
+// particle of cluster k; the clusters after the last column's end at the particles' end, which the
+// caller writes at cluster_begin[cluster count]) and cluster_of[i] for each of their particles.
+SPH_HD void fill_column_clusters(std::uint32_t column, const std::uint32_t* cell_start, int nz,
+                                 std::uint32_t first_cluster, std::uint32_t* cluster_begin, std::uint32_t* cluster_of) {
+    std::uint32_t k = first_cluster;
+    for_each_segment(column, cell_start, nz, [&](std::uint32_t b, std::uint32_t e) {
+        for (std::uint32_t i = b; i < e; i += cluster_size, ++k) {
+            cluster_begin[k] = i;
+            const std::uint32_t stop = e - i < cluster_size ? e : i + cluster_size;
+            for (std::uint32_t j = i; j < stop; ++j) cluster_of[j] = k;
+        }
+    });
+}
+
+// The box of the particles [begin, end) of one cluster: their positions against their cells
+// (pos) and their cells (cell, linear indices of the last sort).
+SPH_HD ClusterBox cluster_box(std::uint32_t begin, std::uint32_t end, const real4* pos, const real4* velrho,
+                              const std::uint32_t* cell, const GridView& g) {
     const real big = real(1e30);
     ClusterBox b{{big, big, big, 0}, {-big, -big, -big, 0}};
-    const std::uint32_t j0 = first + k * cluster_size;
-    const std::uint32_t j1 = end - j0 < cluster_size ? end : j0 + cluster_size;
-    const std::uint32_t outside = g.out_of_domain();
-    for (std::uint32_t j = j0; j < j1; ++j) {
-        const std::uint32_t c = cell[j];
-        if (c >= outside) continue;
-        const int3v cc = g.decode(c);
+    for (std::uint32_t j = begin; j < end; ++j) {
+        const int3v cc = g.decode(cell[j]);
         const real4 p = pos[j];
         const real x = real(cc.x) * g.cell_size.x + p.x, y = real(cc.y) * g.cell_size.y + p.y,
                    z = real(cc.z) * g.cell_size.z + p.z;
@@ -89,18 +131,16 @@ struct ClusterBuildWork {
 
 // Builds cluster c's list: every cluster (itself included) whose box lies within `reach` of
 // c's, found through the cells around c's box grown by the reach: a column's z-run of cells is
-// one particle range, so one range of clusters. Columns come in ascending cell order, so their
-// particle ranges and cluster ranges ascend, and a cluster shared by two ranges comes at the end
-// of one and the start of the next: the list holds each cluster once, in ascending order.
-// Entries at column k of c: index[k * stride + c]. Returns the true count; entries past
-// `capacity` are not written (the caller grows and builds again).
-SPH_HD ClusterBuildWork build_cluster_list(std::uint32_t c, const ClusterBox* boxes, std::uint32_t first,
-                                           std::uint32_t end, const std::uint32_t* cell_start, const GridView& g,
-                                           real reach, std::uint32_t* index, std::uint32_t stride,
-                                           std::uint32_t capacity) {
+// one particle range, so one range of clusters (cluster_of its first and last particles).
+// Columns come in ascending cell order, so their particle ranges and cluster ranges ascend, and a
+// cluster shared by two ranges comes at the end of one and the start of the next: the list holds
+// each cluster once, in ascending order. Entries at column k of c: index[k * stride + c]. Returns
+// the true count; entries past `capacity` are not written (the caller grows and builds again).
+SPH_HD ClusterBuildWork build_cluster_list(std::uint32_t c, const ClusterBox* boxes, const std::uint32_t* cluster_of,
+                                           const std::uint32_t* cell_start, const GridView& g, real reach,
+                                           std::uint32_t* index, std::uint32_t stride, std::uint32_t capacity) {
     ClusterBuildWork w;
     const ClusterBox bc = boxes[c];
-    if (bc.lo.x > bc.hi.x) return w;  // no particle inside the domain
     const real reach2 = reach * reach;
     int x0, x1, y0, y1, z0, z1;
     cells_within(bc.lo.x, bc.hi.x, reach, g.cell_size.x, g.nx, x0, x1);
@@ -112,12 +152,10 @@ SPH_HD ClusterBuildWork build_cluster_list(std::uint32_t c, const ClusterBox* bo
     for (int x = x0; x <= x1; ++x)
         for (int y = y0; y <= y1; ++y) {
             const std::uint32_t column = g.encode(x, y, 0);
-            std::uint32_t b = cell_start[column + std::uint32_t(z0)], e = cell_start[column + std::uint32_t(z1) + 1];
-            b = b < first ? first : b;
-            e = e > end ? end : e;
+            const std::uint32_t b = cell_start[column + std::uint32_t(z0)], e = cell_start[column + std::uint32_t(z1) + 1];
             if (b >= e) continue;
-            std::uint32_t k = (b - first) / cluster_size;
-            const std::uint32_t k_end = (e - 1 - first) / cluster_size + 1;
+            std::uint32_t k = cluster_of[b];
+            const std::uint32_t k_end = cluster_of[e - 1] + 1;
             k = k < next ? next : k;
             for (; k < k_end; ++k) {
                 const ClusterBox bk = boxes[k];

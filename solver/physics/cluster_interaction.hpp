@@ -15,13 +15,16 @@
 namespace sph {
 
 // Cluster lists: cluster c's k-th listed cluster at index[k * stride + c] (a column per list
-// position, so that consecutive clusters read one column coalesced), count[c] of them; the
-// clusters cover particles [first, end) (cluster_count()).
+// position, so that consecutive clusters read one column coalesced), count[c] of them; cluster k
+// holds particles [cluster_begin[k], cluster_begin[k + 1]) and particle i is in cluster_of[i]
+// (particles [0, end) are in clusters: those inside the domain at the rebuild).
 struct ClusterList {
     const std::uint32_t* index;
     const std::uint32_t* count;
-    std::uint32_t stride;
-    std::uint32_t first, end;
+    std::uint32_t stride;  // the cluster count
+    const std::uint32_t* cluster_of;
+    const std::uint32_t* cluster_begin;
+    std::uint32_t end;
 };
 
 // Particle i's sums over its cluster's list. Choices are the listed loop's (ListedLoopDefaults
@@ -42,11 +45,11 @@ SPH_HD real4 particle_force_cluster_listed(std::uint32_t i, const ForceInputs& i
         }
     };
     const int3v ci = cell_of(i);
-    const std::uint32_t c = (i - list.first) / cluster_size;
+    const std::uint32_t c = list.cluster_of[i];
     const std::uint32_t n = list.count[c];
     for (std::uint32_t k = 0; k < n; ++k) {
-        const std::uint32_t j0 = list.first + list.index[std::size_t(k) * list.stride + c] * cluster_size;
-        const std::uint32_t j1 = list.end - j0 < cluster_size ? list.end : j0 + cluster_size;
+        const std::uint32_t cj = list.index[std::size_t(k) * list.stride + c];
+        const std::uint32_t j0 = list.cluster_begin[cj], j1 = list.cluster_begin[cj + 1];
         for (std::uint32_t j = j0; j < j1; ++j) {
             if (j == i) continue;
             const int3v cj = cell_of(j);
@@ -67,11 +70,11 @@ SPH_HD SearchWork particle_cluster_work(std::uint32_t i, const ForceInputs& in, 
     SearchWork w;
     const int3v ci = in.grid.decode(in.cell[i]);
     const real4 pos_i = in.pos[i];
-    const std::uint32_t c = (i - list.first) / cluster_size;
+    const std::uint32_t c = list.cluster_of[i];
     w.ranges = list.count[c];
     for (std::uint32_t k = 0; k < list.count[c]; ++k) {
-        const std::uint32_t j0 = list.first + list.index[std::size_t(k) * list.stride + c] * cluster_size;
-        const std::uint32_t j1 = list.end - j0 < cluster_size ? list.end : j0 + cluster_size;
+        const std::uint32_t cj = list.index[std::size_t(k) * list.stride + c];
+        const std::uint32_t j0 = list.cluster_begin[cj], j1 = list.cluster_begin[cj + 1];
         for (std::uint32_t j = j0; j < j1; ++j) {
             if (j == i) continue;
             const int3v cj = in.grid.decode(in.cell[j]);
