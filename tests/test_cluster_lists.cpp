@@ -8,10 +8,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <set>
 
 #include "physics/cluster_interaction.hpp"
+#include "physics/dispatch.hpp"
 #include "test_support.hpp"
 
 namespace sph {
@@ -229,6 +231,63 @@ TEST(ClusterLists, WallOnlyClustersListNoWallOnlyClusterAndEveryClusterListsItse
         EXPECT_TRUE(self || !b.boxes[c].has_fluid()) << "cluster " << c;
     }
     EXPECT_GT(wall_only, 0u);
+}
+
+// The GPU's walk (ListedLoopPolicySm90's choices: cells read as coordinates, j's position and
+// velocity-density loaded whole before the support test; with or without hit masks) gives the
+// host's walk's sums bit for bit: the same pairs in the same order through the same arithmetic.
+// And the host's walk gives the per-particle listed loop's sums bit for bit (neighbours in
+// ascending order in both). All run here, on the host.
+struct GpuLikeClusterLoop {
+    static constexpr bool packed_cells = true;
+    static constexpr bool early_loads = true;
+    static constexpr bool whole_loads = true;
+    static constexpr int index_lookahead = 0;
+    static constexpr bool entry_offsets = false;
+};
+
+TEST(ClusterLists, GpuChoicesAndPerParticleListsGiveTheHostWalksSumsBitwise) {
+    for (int n : {1, 2}) {
+        const Scene s = test::random_scene(2400, 800, 0.3, 0.02, 31u + n, 0.0, 1.0);
+        const double reach = 1.1 * double(s.params.support);
+        SortedState st = sort_scene(s, n, reach);
+        for (std::size_t k = 0; k < st.a.size(); ++k)
+            st.a.pos[k].w = pressure_over_rho2(st.params, density(st.a.velrho[k]));
+        const GridView& g = st.grid.view;
+        const PhysicsParams& p = st.params;
+        const BuiltClusters b = build_clusters(st, real(reach));
+        const ClusterList list = b.list();
+        std::vector<CellCoords> coords(st.a.size());
+        for (std::size_t i = 0; i < st.a.size(); ++i)
+            coords[i] = pack_cell_coords(g.decode(st.a.cell[i]), st.a.cell[i] < g.out_of_domain());
+        const ForceInputs host_in = st.inputs();
+        ForceInputs gpu_in = host_in;
+        gpu_in.cell_coords = coords.data();
+        // Per-particle lists of the same reach (the host's build: every candidate, walls too).
+        const std::uint32_t np = std::uint32_t(st.a.size()), capacity = 400;
+        std::vector<std::uint32_t> index(std::size_t(capacity) * np), count(np, 0);
+        dispatch_search(SearchOptions{n, false}, [&](auto tag) {
+            using Search = typename decltype(tag)::type;
+            for (std::uint32_t i = 0; i < st.end; ++i)
+                count[i] = build_particle_list<Search>(i, host_in, real(reach * reach), index.data(), np, capacity);
+        });
+        const NeighbourList particle_list{index.data(), count.data(), np};
+        const CubicSpline kernel(p.h);
+        std::size_t nonzero = 0;
+        for (std::uint32_t i = 0; i < st.end; ++i) {
+            ASSERT_LE(count[i], capacity);
+            const real4 want = particle_force_cluster_listed<CubicSpline, true>(i, host_in, list, p, kernel);
+            const real4 gpu = particle_force_cluster_listed<CubicSpline, true, GpuLikeClusterLoop>(i, gpu_in, list, p, kernel);
+            const real4 masked =
+                particle_force_cluster_listed<CubicSpline, true, GpuLikeClusterLoop, true>(i, gpu_in, list, p, kernel);
+            const real4 listed = particle_force_listed<CubicSpline, true>(i, host_in, particle_list, p, kernel);
+            ASSERT_EQ(std::memcmp(&want, &gpu, sizeof want), 0) << "particle " << i << ", the GPU's loads";
+            ASSERT_EQ(std::memcmp(&want, &masked, sizeof want), 0) << "particle " << i << ", hit masks";
+            ASSERT_EQ(std::memcmp(&want, &listed, sizeof want), 0) << "particle " << i << ", per-particle lists";
+            nonzero += want.x != 0 || want.w != 0;
+        }
+        EXPECT_GT(nonzero, st.end / 2);
+    }
 }
 
 // The subdomain's lists hold the pairs that close the skin between rebuilds: every particle

@@ -50,7 +50,7 @@ __global__ void __launch_bounds__(block_size)
 
 // One thread per particle; the listed loop's launch policy (its loads; no lookahead, no entry
 // offsets: a cluster entry is an index only).
-template <class Kernel, bool Diffusion, class Policy>
+template <class Kernel, bool Diffusion, class Policy, bool HitMasks>
 __global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
     forces_cluster_listed_kernel(ForceInputs in, ClusterList list, PhysicsParams p, real4* __restrict__ force) {
     const std::uint32_t i = blockIdx.x * Policy::block_size + threadIdx.x;
@@ -60,7 +60,7 @@ __global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
         return;
     }
     const Kernel kernel(p.h);
-    force[i] = particle_force_cluster_listed<Kernel, Diffusion, Policy>(i, in, list, p, kernel);
+    force[i] = particle_force_cluster_listed<Kernel, Diffusion, Policy, HitMasks>(i, in, list, p, kernel);
 }
 
 }  // namespace
@@ -110,10 +110,17 @@ void compute_forces_cluster_listed(const SubdomainConfig& cfg, const ForceInputs
     if (in.grid.any_periodic() || in.cell_coords == nullptr)
         throw RunError("cluster lists need an open grid and the cell coordinates their rebuild keeps");
     using Policy = ListedLoopPolicy;
+    const bool hit_masks = cfg.variants.list_layout == ListLayoutVariant::cluster_hit_masks;
     dispatch_kernel(cfg.kernel, cfg.diffusion, [&](auto k, auto diffusion) {
         using Kernel = typename decltype(k)::type;
-        forces_cluster_listed_kernel<Kernel, decltype(diffusion)::value, Policy>
-            <<<blocks_for<Policy::block_size>(list.end), Policy::block_size, 0, s>>>(in, list, cfg.params, force);
+        constexpr bool d = decltype(diffusion)::value;
+        const unsigned blocks = blocks_for<Policy::block_size>(list.end);
+        if (hit_masks)
+            forces_cluster_listed_kernel<Kernel, d, Policy, true>
+                <<<blocks, Policy::block_size, 0, s>>>(in, list, cfg.params, force);
+        else
+            forces_cluster_listed_kernel<Kernel, d, Policy, false>
+                <<<blocks, Policy::block_size, 0, s>>>(in, list, cfg.params, force);
     });
     SPH_CUDA_CHECK_LAUNCH();
 }

@@ -383,7 +383,7 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
-    bool clustered() const { return cfg_.variants.list_layout == ListLayoutVariant::cluster; }
+    bool clustered() const { return cluster_layout(cfg_.variants); }
     // Cluster lists (list_layout = cluster): the particles inside the domain in clusters of at
     // most 8 along each column's segments, their boxes, then each cluster's list. The listed
     // loop reads each particle's cell as coordinates, which advance keeps from here on (no build

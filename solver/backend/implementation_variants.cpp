@@ -40,10 +40,11 @@ const std::vector<ImplementationVariant>& implementation_variant_registry() {
          [](const ImplementationVariants& v) { return int(v.list_entries); },
          [](ImplementationVariants& v, int k) { v.list_entries = ListEntriesVariant(k); }},
         {"list_layout",
-         {"auto", "cluster"},
+         {"auto", "cluster", "cluster-hit-masks"},
          "Verlet-list layout, both backends: auto stores a list per particle; cluster (a prototype, issue 25) stores "
-         "per cluster of 8 sorted particles the clusters whose bounding boxes lie within reach (open grids, one "
-         "subdomain)",
+         "per cluster of up to 8 sorted particles of a column the clusters whose bounding boxes lie within reach (open "
+         "grids, one subdomain); cluster-hit-masks, the same lists, tests a listed cluster's particles before the "
+         "pair bodies on the GPU",
          [](const ImplementationVariants& v) { return int(v.list_layout); },
          [](ImplementationVariants& v, int k) { v.list_layout = ListLayoutVariant(k); }},
     };

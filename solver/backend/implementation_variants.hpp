@@ -38,7 +38,9 @@ enum class ListEntriesVariant : std::uint8_t {
 // How the Verlet lists are laid out (both backends).
 enum class ListLayoutVariant : std::uint8_t {
     automatic,  // "auto": a list per particle (NeighbourList), its neighbours within the reach
-    cluster,    // "cluster": a list per cluster of 8 sorted particles, of clusters (ClusterList)
+    cluster,    // "cluster": a list per cluster of up to 8 sorted particles, of clusters (ClusterList)
+    cluster_hit_masks,  // "cluster-hit-masks": the same lists; the GPU's walk tests a listed cluster's
+                        // particles first, then runs the pair bodies over the hits (the host: as cluster)
 };
 
 struct ImplementationVariants {
@@ -53,6 +55,8 @@ struct ImplementationVariants {
     }
     bool operator!=(const ImplementationVariants& o) const { return !(*this == o); }
 };
+// Whether the lists are cluster lists (either cluster value).
+inline bool cluster_layout(const ImplementationVariants& v) { return v.list_layout != ListLayoutVariant::automatic; }
 
 // One entry of the registry. A variant's value is its index in `values` (the enum's order).
 struct ImplementationVariant {

@@ -31,7 +31,11 @@ struct ClusterList {
 // on the host, a GPU's launch policy there): packed_cells, early_loads and whole_loads apply;
 // entry_offsets and index_lookahead do not (a cluster entry carries no cell offset). Open grids
 // only (the backends refuse periodic ones with this layout).
-template <class Kernel, bool Diffusion, class Choices = ListedLoopDefaults>
+// HitMasks tests a listed cluster's particles first, one bit each, then runs the pair body over
+// the bits: a warp's lanes (4 clusters) meet a neighbour in ~1 of 4 candidates, and candidate by
+// candidate the warp runs the body whenever one lane has a neighbour. The same pairs in the same
+// order through the same arithmetic: the same sums to the bit (tests/test_cluster_lists.cpp).
+template <class Kernel, bool Diffusion, class Choices = ListedLoopDefaults, bool HitMasks = false>
 SPH_HD real4 particle_force_cluster_listed(std::uint32_t i, const ForceInputs& in, const ClusterList& list,
                                            const PhysicsParams& p, const Kernel& kernel) {
     static_assert(!Choices::whole_loads || Choices::early_loads, "whole_loads are early loads");
@@ -45,19 +49,38 @@ SPH_HD real4 particle_force_cluster_listed(std::uint32_t i, const ForceInputs& i
         }
     };
     const int3v ci = cell_of(i);
+    const auto separation_to = [&](std::uint32_t j, const real4& pos_j) {
+        const int3v cj = cell_of(j);
+        return separation(sums.side.pos, pos_j, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
+    };
+    const auto add = [&](std::uint32_t j) {
+        const real4 pos_j = Choices::whole_loads ? load_whole(in.pos, j) : in.pos[j];
+        const real3 rij = separation_to(j, pos_j);
+        if constexpr (Choices::whole_loads) sums.add_loaded(j, pos_j, load_whole(in.velrho, j), rij, dot(rij, rij));
+        else if constexpr (Choices::early_loads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
+        else sums.add(j, rij, dot(rij, rij));
+    };
+    const real near2 = real(1e-18) * p.support2;
     const std::uint32_t c = list.cluster_of[i];
     const std::uint32_t n = list.count[c];
     for (std::uint32_t k = 0; k < n; ++k) {
         const std::uint32_t cj = list.index[std::size_t(k) * list.stride + c];
         const std::uint32_t j0 = list.cluster_begin[cj], j1 = list.cluster_begin[cj + 1];
-        for (std::uint32_t j = j0; j < j1; ++j) {
-            if (j == i) continue;
-            const int3v cj = cell_of(j);
-            const real4 pos_j = Choices::whole_loads ? load_whole(in.pos, j) : in.pos[j];
-            const real3 rij = separation(sums.side.pos, pos_j, cj.x - ci.x, cj.y - ci.y, cj.z - ci.z, in.grid.cell_size);
-            if constexpr (Choices::whole_loads) sums.add_loaded(j, pos_j, load_whole(in.velrho, j), rij, dot(rij, rij));
-            else if constexpr (Choices::early_loads) sums.add_loaded(j, in.velrho[j], rij, dot(rij, rij));
-            else sums.add(j, rij, dot(rij, rij));
+        if constexpr (HitMasks) {
+            std::uint32_t hits = 0;
+            for (std::uint32_t j = j0; j < j1; ++j) {
+                const real3 rij = separation_to(j, in.pos[j]);
+                const real r2 = dot(rij, rij);
+                if (r2 < p.support2 && r2 > near2 && j != i) hits |= std::uint32_t(1) << (j - j0);
+            }
+            while (hits != 0) {
+                const std::uint32_t j = j0 + std::uint32_t(lowest_set_bit(hits));
+                hits &= hits - 1;
+                add(j);  // the same separation as the test's
+            }
+        } else {
+            for (std::uint32_t j = j0; j < j1; ++j)
+                if (j != i) add(j);
         }
     }
     return sums.result();
