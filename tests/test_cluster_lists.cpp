@@ -386,11 +386,11 @@ TEST(ClusterLists, RefusePeriodicGridsInOneSentence) {
     }
 }
 
-// Not a check: the cluster lists of DualSPHysics' dam break at its benchmark size (1.04M
-// particles, dp 0.0045, half cells, skin 0.1) at rest, for change 14's prediction. About a
-// minute on two cores: run it with --gtest_also_run_disabled_tests.
-TEST(ClusterLists, DISABLED_DamBreak104MAtRest) {
-    const Scene s = make_scene("dsph-dambreak", {{"dp", "0.0045"}});
+// Not checks: the cluster lists of DualSPHysics' dam break (half cells, skin 0.1), for change
+// 14's prediction: at its benchmark size (1.04M particles, dp 0.0045) at rest, a few seconds on
+// two cores, and in flow at dp 0.012 (55K particles) after 0.3 s of the collapse (cell search on
+// the host), a few minutes. Run them with --gtest_also_run_disabled_tests.
+void print_dambreak_clusters(const Scene& s, const char* what) {
     const double reach = 1.1 * double(s.params.support);
     const SortedState st = sort_scene(s, 2, reach);
     const BuiltClusters b = build_clusters(st, real(reach), 1000);
@@ -403,6 +403,22 @@ TEST(ClusterLists, DISABLED_DamBreak104MAtRest) {
         candidates += w.candidates;
         neighbours += w.neighbours;
     }
+    // The per-particle lists' entries (every candidate within the reach, walls' fluid only as
+    // the GPU builds them) and the cell search's candidates on the same cells.
+    unsigned long long entries_pp = 0, stencil = 0;
+#pragma omp parallel for reduction(+ : entries_pp, stencil)
+    for (std::int64_t i = 0; i < std::int64_t(st.end); ++i) {
+        const int3v c = st.grid.view.decode(st.a.cell[std::size_t(i)]);
+        const bool wall = is_boundary(st.a.velrho[std::size_t(i)]);
+        CellSearch<2, true>::visit(st.grid.view, st.start.data(), st.a.cell.data(), c,
+                                   [&](std::uint32_t j, int dx, int dy, int dz) {
+                                       ++stencil;
+                                       if (j == std::uint32_t(i) || (wall && is_boundary(st.a.velrho[j]))) return;
+                                       const real3 r = separation(st.a.pos[std::size_t(i)], st.a.pos[j], dx, dy, dz,
+                                                                  st.grid.view.cell_size);
+                                       if (dot(r, r) < real(reach * reach)) ++entries_pp;
+                                   });
+    }
     std::size_t entries = 0, longest = 0;
     std::vector<std::uint32_t> sorted_counts = b.count;
     std::sort(sorted_counts.begin(), sorted_counts.end());
@@ -410,16 +426,38 @@ TEST(ClusterLists, DISABLED_DamBreak104MAtRest) {
         entries += c;
         longest = std::max<std::size_t>(longest, c);
     }
-    if (!sorted_counts.empty())
-        std::printf("list lengths: median %u, 90%% %u, 99%% %u, 99.9%% %u\n", sorted_counts[sorted_counts.size() / 2],
-                    sorted_counts[sorted_counts.size() * 9 / 10], sorted_counts[sorted_counts.size() * 99 / 100],
-                    sorted_counts[sorted_counts.size() * 999 / 1000]);
-    std::printf("dsph-dambreak dp 0.0045 at rest: %u particles, %zu clusters, %.1f listed clusters a cluster (longest "
-                "%zu; %.1f bytes a particle), %.1f boxes tested a cluster; %.1f candidates and %.1f neighbours a "
-                "particle (%.1f%%)\n",
-                st.end, b.boxes.size(), double(entries) / double(b.boxes.size()), longest,
-                4.0 * double(entries) / double(st.end), double(b.tested) / double(b.boxes.size()),
-                double(candidates) / st.end, double(neighbours) / st.end, 100.0 * double(neighbours) / double(candidates));
+    const double n = double(st.end), nc = double(b.clusters());
+    const double capacity = double(longest + longest / 5 + 8);
+    std::printf("%s: %u particles, %zu clusters (%.2f particles a cluster), %.1f listed clusters a cluster (median %u, "
+                "99.9%% %u, longest %zu), %.1f boxes tested a cluster\n",
+                what, st.end, b.boxes.size(), n / nc, double(entries) / nc, sorted_counts[sorted_counts.size() / 2],
+                sorted_counts[sorted_counts.size() * 999 / 1000], longest, double(b.tested) / nc);
+    std::printf("  walk: %.1f candidates and %.1f neighbours a particle (%.1f%% inside the support); per-particle "
+                "lists: %.1f entries a particle; the n = 2 merged stencil: %.1f candidates a particle\n",
+                double(candidates) / n, double(neighbours) / n, 100.0 * double(neighbours) / double(candidates),
+                double(entries_pp) / n, double(stencil) / n);
+    std::printf("  bytes a particle: entries %.1f (as CSR), column-major at the GPU's capacity %.1f, with boxes, "
+                "counts, first particles and each particle's cluster %.1f, plus 8 of cell coordinates on the GPU\n",
+                4.0 * double(entries) / n, 4.0 * capacity * nc / n,
+                (4.0 * capacity * nc + 32.0 * nc + 8.0 * nc) / n + 4.0);
+}
+
+TEST(ClusterLists, DISABLED_DamBreak104MAtRest) {
+    print_dambreak_clusters(make_scene("dsph-dambreak", {{"dp", "0.0045"}}), "dsph-dambreak dp 0.0045 at rest");
+}
+
+TEST(ClusterLists, DISABLED_DamBreakInFlow) {
+    Scene s = make_scene("dsph-dambreak", {{"dp", "0.012"}});
+    SolverOptions o;
+    o.search = SearchOptions{2, true};
+    Simulation sim(s, o);
+    while (sim.time() < 0.3) sim.step();
+    const SnapshotData snap = sim.snapshot();
+    for (std::size_t k = 0; k < snap.id.size(); ++k) {
+        const std::uint32_t id = snap.id[k];
+        s.position[id] = {snap.position[3 * k], snap.position[3 * k + 1], snap.position[3 * k + 2]};
+    }
+    print_dambreak_clusters(s, "dsph-dambreak dp 0.012 at 0.3 s");
 }
 
 }  // namespace
