@@ -388,8 +388,8 @@ TEST(ClusterLists, RefusePeriodicGridsInOneSentence) {
 
 // Not checks: the cluster lists of DualSPHysics' dam break (half cells, skin 0.1), for change
 // 14's prediction: at its benchmark size (1.04M particles, dp 0.0045) at rest, a few seconds on
-// two cores, and in flow at dp 0.012 (55K particles) after 0.3 s of the collapse (cell search on
-// the host), a few minutes. Run them with --gtest_also_run_disabled_tests.
+// two cores, and in flow at dp 0.02 (12K particles) after 0.3 s of the collapse (cell search on
+// the host), about two minutes. Run them with --gtest_also_run_disabled_tests.
 void print_dambreak_clusters(const Scene& s, const char* what) {
     const double reach = 1.1 * double(s.params.support);
     const SortedState st = sort_scene(s, 2, reach);
@@ -447,7 +447,7 @@ TEST(ClusterLists, DISABLED_DamBreak104MAtRest) {
 }
 
 TEST(ClusterLists, DISABLED_DamBreakInFlow) {
-    Scene s = make_scene("dsph-dambreak", {{"dp", "0.012"}});
+    Scene s = make_scene("dsph-dambreak", {{"dp", "0.02"}});
     SolverOptions o;
     o.search = SearchOptions{2, true};
     Simulation sim(s, o);
@@ -457,7 +457,7 @@ TEST(ClusterLists, DISABLED_DamBreakInFlow) {
         const std::uint32_t id = snap.id[k];
         s.position[id] = {snap.position[3 * k], snap.position[3 * k + 1], snap.position[3 * k + 2]};
     }
-    print_dambreak_clusters(s, "dsph-dambreak dp 0.012 at 0.3 s");
+    print_dambreak_clusters(s, "dsph-dambreak dp 0.02 at 0.3 s");
 }
 
 }  // namespace
