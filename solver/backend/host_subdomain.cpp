@@ -326,6 +326,9 @@ private:
             if (longest <= cluster_capacity_) return;
             cluster_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
         }
+        // Not reached (the second build fits what the first counted); never run with lists cut short.
+        throw RunError("cluster lists of " + std::to_string(nc) + " clusters outgrew their capacity of " +
+                       std::to_string(cluster_capacity_) + " entries a cluster twice");
     }
     void compute_forces_cluster_listed() {
         const ForceInputs in = inputs();
