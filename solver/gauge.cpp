@@ -109,7 +109,7 @@ std::vector<double> gauge_values(const Gauge& g, const Scene& s, const Grid& gri
     case GaugeKind::force: return {a.v[0], a.v[1], a.v[2]};
     case GaugeKind::max_height: return {a.v[3] > 0 ? grid.origin[2] + a.v[0] : nan};
     case GaugeKind::water_level:
-        return {last_threshold_crossing(std::size_t(level_samples(s)), s.lo[2], 0.5 * s.dp,
+        return {first_threshold_crossing(std::size_t(level_samples(s)), s.lo[2], 0.5 * s.dp,
                                         water_mass_threshold(double(s.params.mass), s.dp),
                                         [&](std::size_t k) { return sums[k].v[0]; })};
     }

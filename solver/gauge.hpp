@@ -6,10 +6,11 @@
 //   velocity NAME_x, NAME_y, NAME_z (m/s) at (x, y, z): likewise
 //   water_level NAME  (m, height) on the vertical line (x, y): as DualSPHysics' swl gauge,
 //                     the line sampled every dp / 2 from the domain's bottom to its top; the
-//                     level is where the kernel-summed fluid mass sum m W falls to half a
-//                     particle's mass per particle volume (0.5 m / dp^3, as
-//                     core/water_mass_threshold.hpp defines it for every user), linearly
-//                     interpolated between the highest sample at or above it and the next
+//                     level is where the kernel-summed fluid mass sum m W first falls, from
+//                     the bottom up, below half a particle's mass per particle volume
+//                     (0.5 m / dp^3, as core/water_mass_threshold.hpp defines it for every
+//                     user), linearly interpolated between the two samples (spray above the
+//                     water does not lift it); nan on a dry line
 //   max_height NAME   (m) the highest fluid particle within `radius` of the line (x, y)
 //   force NAME_x, NAME_y, NAME_z (N) the fluid's force on the scene's body `body`
 // A gauge with no fluid where it looks reads nan.

@@ -132,6 +132,24 @@ TEST(Gauges, WaterLevelIsWhereTheKernelSummedMassFallsToHalfAParticle) {
     EXPECT_LT(reference_at(s, snap, above, 0).mass_sum, threshold);
 }
 
+// Read from the bottom up as DualSPHysics reads it: a block of water above the free surface (spray,
+// a jet off an obstacle) on the same line does not lift the level; read from the top down it did.
+TEST(Gauges, WaterLevelIsTheWaterBodysSurfaceNotSprayAboveIt) {
+    namespace fs = std::filesystem;
+    const fs::path file = fs::temp_directory_path() / "sph_gauges_spray.toml";
+    std::ofstream(file) << "[case]\ndp = 0.02\n[case.tank]\nmin = [0, 0, 0]\nmax = [0.3, 0.3, 0.6]\n"
+                           "[[case.fluid]]\nmin = [0, 0, 0]\nmax = [0.3, 0.3, 0.1]\n"
+                           "[[case.fluid]]\nmin = [0.1, 0.1, 0.3]\nmax = [0.2, 0.2, 0.4]\nhydrostatic = false\n";
+    const Scene s = build_scene(case_scene_prefix + file.string(), {});
+    fs::remove(file);
+    Simulation sim(s, SolverOptions{});
+    sim.step();
+    const std::vector<double> v = sim.measure_gauges({gauge_at(GaugeKind::water_level, "under_spray", 0.15, 0.15),
+                                                      gauge_at(GaugeKind::water_level, "beside", 0.05, 0.05)});
+    EXPECT_NEAR(v[0], 0.1, s.dp) << "the level under the block";
+    EXPECT_NEAR(v[0], v[1], 0.1 * s.dp) << "the same water body, with and without a block above";
+}
+
 TEST(Gauges, AFreeFallingBlockFeelsNoForceAndNoPressure) {
     namespace fs = std::filesystem;
     const fs::path file = fs::temp_directory_path() / "sph_gauges_free_fall.toml";
