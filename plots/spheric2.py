@@ -143,7 +143,10 @@ def our_runs(folder, measured):
     sphplot.require_columns(runs, ["run_id", "s_per_sim_s", "sim_time", "particles"])
     rows, histories = [], {}
     for _, run in runs.iterrows():
-        path = Path(runs.attrs["path"]).parent / f"{run['run_id']}_gauges.csv"
+        folder_of_runs = Path(runs.attrs["path"]).parent
+        path = folder_of_runs / f"{run['run_id']}_gauges.csv"
+        if not path.is_file():  # a float64 run's files stay in the float64 build's own folder
+            path = next(folder_of_runs.rglob(f"{run['run_id']}_gauges.csv"), path)
         series = read_our_gauges(path)
         blew = str(run.get("blow_up", "")).strip() not in ("", "nan")
         end = min(float(run["sim_time"]), 2.0)

@@ -248,9 +248,18 @@ def run_spheric2_dualsphysics(ctx, d):
     unpack_xz(anchor)
     work = Path(tempfile.mkdtemp(prefix="dsph-spheric2-"))
     try:
+        # make_case.sh unpacks GenCase from gencase/GenCase_linux64.gz into $TMPDIR/gencase_v5.0.232
+        # unless it is there; a packed anchor (.xz, unpacked above) has no .gz: put it there.
+        gencase = anchor / "gencase" / "GenCase_linux64"
+        if gencase.is_file():
+            target = work / "gencase_v5.0.232" / "GenCase_linux64"
+            target.parent.mkdir(parents=True)
+            shutil.copy(gencase, target)
+            target.chmod(0o755)
         cases = work / "cases"
         for dp in SPHERIC2_SPACINGS:
-            ctx.sh(["bash", anchor / "spheric2" / "make_case.sh", dp, SPHERIC2_END_S, cases / f"dp{dp}"], log=None)
+            ctx.sh(["bash", anchor / "spheric2" / "make_case.sh", dp, SPHERIC2_END_S, cases / f"dp{dp}"], log=None,
+                   env=dict(os.environ, TMPDIR=str(work)))
         logs = work / "logs"
         env = dict(os.environ, DSPH_CASES=str(cases), DSPH_WORK=str(work / "scratch"))
         ctx.sh(["bash", anchor / "run.sh", logs, *[f"dp{dp}" for dp in SPHERIC2_SPACINGS]], log=None, env=env)
