@@ -386,15 +386,18 @@ def fig3(folder):
                   "it; candidates and neighbours per particle per step from the runs' counters."])
 
 
-def cll_vs_vl(*folders):
+def _vl_comparisons(folders):
+    """(folder, its source, table_vl.compare of its runs) for each folder that is there."""
     import table_vl
-    rows, sources = [], []
     for folder in folders:
-        if not Path(folder).is_dir():
-            continue
-        runs, meta = sphplot.load_runs(folder)
-        t = table_vl.compare(runs)
-        src = from_meta(folder, meta)
+        if Path(folder).is_dir():
+            runs, meta = sphplot.load_runs(folder)
+            yield folder, from_meta(folder, meta), table_vl.compare(runs)
+
+
+def cll_vs_vl(*folders):
+    rows, sources = [], []
+    for folder, src, t in _vl_comparisons(folders):
         sources.append(src)
         for r in t.itertuples():
             rows.append([r.group, src.gpu, f"{r.skin} / {r.rebuild_every}", f(r.update_ms_median_cll),
@@ -414,14 +417,8 @@ def cll_vs_vl(*folders):
 
 
 def cll_vs_vl_history(*folders):
-    import table_vl
     rows, sources = [], []
-    for folder in folders:
-        if not Path(folder).is_dir():
-            continue
-        runs, meta = sphplot.load_runs(folder)
-        t = table_vl.compare(runs)
-        src = from_meta(folder, meta)
+    for folder, src, t in _vl_comparisons(folders):
         sources.append(src)
         sp = 1 / t.update_ratio
         rows.append([f"`{rel(folder)}`", src.gpu, src.commit[:7], str(len(t)),

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+import accuracy
 import sphplot
 from sphplot import pd, plt
 
@@ -192,17 +193,6 @@ def dsph_runs(folder, measured):
     return rows, histories
 
 
-def pareto_mask(time, error):
-    """True for runs that no other run matches or beats on both time and error (strictly on one)."""
-    t, e = np.asarray(time, float), np.asarray(error, float)
-    keep = np.isfinite(t) & np.isfinite(e)
-    mask = np.zeros(len(t), bool)
-    for i in np.flatnonzero(keep):
-        dominated = keep & (t <= t[i]) & (e <= e[i]) & ((t < t[i]) | (e < e[i]))
-        mask[i] = not dominated.any()
-    return mask
-
-
 def targets(data):
     """The issue's targets, one line each: per spacing both codes ran, per probe, ours at least as
     close and faster; P1's first peak within 20% and 20 ms at our finest spacing."""
@@ -234,7 +224,7 @@ def table(results, dualsphysics, measured):
         rows += more
         histories.update(more_hist)
     data = pd.DataFrame(rows)
-    data["pareto"] = pareto_mask(data["s_per_sim_s"], data["H_rms_mean"].where(~data["blew_up"]))
+    data["pareto"] = accuracy.pareto_mask(data["s_per_sim_s"], data["H_rms_mean"].where(~data["blew_up"]))
     return data, histories, runs, meta
 
 
