@@ -213,6 +213,63 @@ TEST(ClusterLists, FindExactlyTheBruteForcePairsInAFlowingDamBreak) {
     expect_brute_force_set(sort_scene(s, 1, reach), real(reach), "dam break after 600 steps, cells of the reach");
 }
 
+// list_build = clusters (change 15): each particle's Verlet list built from its cluster's list
+// of clusters (at cluster_reach_for_lists) holds the entries the stencil's build holds, in the
+// same order, so the listed loop sums the same pairs in the same order either way.
+// The rebuild's inputs on the GPU tell walls apart by cell (fluid_begin: each cell holds its
+// walls first, as the scenes number them), and a wall's list then holds fluid only; a wall-only
+// cluster lists no wall-only cluster, so lists built from clusters need them.
+template <bool CellOffsets>
+void expect_stencil_lists(const SortedState& st, int n, bool merge, real reach, const char* what) {
+    const BuiltClusters b = build_clusters(st, cluster_reach_for_lists(reach, st.grid.view));
+    std::vector<std::uint32_t> fluid_begin(st.start.size());
+    for (std::size_t c = 0; c + 1 < st.start.size(); ++c) {
+        std::uint32_t k = st.start[c];
+        while (k < st.start[c + 1] && is_boundary(st.a.velrho[k])) ++k;
+        fluid_begin[c] = k;
+        for (; k < st.start[c + 1]; ++k) ASSERT_FALSE(is_boundary(st.a.velrho[k])) << what << ": cell " << c << " holds a wall after fluid";
+    }
+    fluid_begin.back() = st.start.back();
+    ForceInputs in = st.inputs();
+    in.fluid_begin = fluid_begin.data();
+    const std::uint32_t cap = 400, stride = st.end;
+    std::vector<std::uint32_t> from_stencil(std::size_t(cap) * stride), from_clusters(std::size_t(cap) * stride);
+    std::size_t entries = 0, lists_differ = 0;
+    dispatch_search(SearchOptions{n, merge}, [&](auto srch) {
+        using Search = typename decltype(srch)::type;
+        if constexpr (Search::n <= ListEntry::reach_cells) for (std::uint32_t i = 0; i < st.end; ++i) {
+            const std::uint32_t a =
+                build_particle_list<Search, CellOffsets>(i, in, reach * reach, from_stencil.data(), stride, cap);
+            const std::uint32_t c = build_particle_list_from_clusters<CellOffsets>(i, in, b.list(), reach * reach,
+                                                                                   from_clusters.data(), stride, cap);
+            ASSERT_LE(a, cap) << what;
+            entries += a;
+            bool same = a == c;
+            for (std::uint32_t k = 0; same && k < a; ++k)
+                same = from_stencil[std::size_t(k) * stride + i] == from_clusters[std::size_t(k) * stride + i];
+            lists_differ += !same;
+        }
+    });
+    std::printf("%s, n = %d, merge = %d, cell offsets %d: %zu entries, %zu of %u lists differ\n", what, n, int(merge),
+                int(CellOffsets), entries, lists_differ, st.end);
+    EXPECT_GT(entries, 20u * st.end) << what;
+    EXPECT_EQ(lists_differ, 0u) << what;
+}
+
+TEST(ClusterLists, BuildTheStencilsPerParticleListsOnARandomCloudAndAFlowingDamBreak) {
+    const Scene cloud = test::random_scene(2400, 800, 0.3, 0.02, 9090u);
+    const Scene flowing = flowing_dambreak("0.025", 600);
+    for (const Scene* s : {&cloud, &flowing}) {
+        const char* what = s == &cloud ? "random cloud" : "dam break after 600 steps";
+        const double reach = 1.1 * double(s->params.support);
+        for (const SearchOptions o : {SearchOptions{1, false}, SearchOptions{2, true}, SearchOptions{2, false}}) {
+            const SortedState st = sort_scene(*s, o.cells_per_support, reach);
+            expect_stencil_lists<false>(st, o.cells_per_support, o.merge, real(reach), what);
+            expect_stencil_lists<true>(st, o.cells_per_support, o.merge, real(reach), what);
+        }
+    }
+}
+
 // Every cluster with fluid lists itself, and a wall-only cluster lists no wall-only one.
 TEST(ClusterLists, WallOnlyClustersListNoWallOnlyClusterAndEveryClusterListsItself) {
     const Scene s = test::random_scene(1600, 800, 0.3, 0.02, 77u);

@@ -48,6 +48,75 @@ __global__ void __launch_bounds__(block_size)
     count[k] = build_cluster_list(k, boxes, cluster_of, cell_start, g, reach, index, clusters, capacity).listed;
 }
 
+// Per-particle lists from the cluster lists (list_build = clusters, change 15): one thread per
+// particle walks its cluster's listed clusters, as the cluster walk does (the 8 lanes of a
+// cluster read the same entries and the same j: a warp's load touches ~4 places, where the
+// stencil's build gathers 32), and keeps the candidates within the reach
+// (cluster_candidate_entry). The rows are stored as build_lists_in_step_kernel stores them:
+// each lane stages its newest entries in a ring in shared memory, and after each listed cluster
+// the warp stores the rows all its running lanes have filled, 128 coalesced bytes a row; a lane
+// more than list_stage_rows ahead stores the rest itself, and walls store theirs from the start.
+constexpr std::uint32_t list_stage_rows = 32;
+
+template <bool CellOffsets>
+__global__ void __launch_bounds__(block_size)
+    build_lists_from_clusters_kernel(ForceInputs in, ClusterList list, real reach2, std::uint32_t* index,
+                                     std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
+                                     ActiveRange range) {
+    __shared__ std::uint32_t stage[block_size / 32][list_stage_rows][32];
+    const std::uint32_t end = *range.end;
+    const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
+    const std::uint32_t lane = threadIdx.x % 32, first = i - lane;
+    if (first >= end) return;  // the whole warp is past the end
+    const bool valid = i < end;
+    const std::uint32_t me = valid ? i : end - 1;  // a lane past the end walks nothing
+    auto& ring = stage[threadIdx.x / 32];
+    const real4 pos_i = in.pos[me];
+    const CellCoords own = in.cell_coords[me];
+    const int3v ci{own.x, own.y, own.z};
+    const bool walls_out = list_keeps_walls_out(me, in);
+    const std::uint32_t c = list.cluster_of[me];
+    const std::uint32_t listed = valid ? list.count[c] : 0;
+    const std::uint32_t rounds = __reduce_max_sync(full_warp, listed);
+    std::uint32_t n = 0;       // this lane's entries so far
+    std::uint32_t stored = 0;  // rows [0, stored) of every staging lane are in index (warp-uniform)
+    std::uint32_t direct = valid && !is_boundary(in.velrho[me]) ? 0xffffffffu : 0u;
+    const bool staging = direct != 0;
+    const auto store_rows = [&](std::uint32_t up_to) {
+        const std::uint32_t mine = min(min(n, direct), capacity);
+        for (std::uint32_t r = stored; r < up_to; ++r)
+            if (valid && r < mine) index[std::size_t(r) * stride + i] = ring[r % list_stage_rows][lane];
+        stored = up_to;
+    };
+    for (std::uint32_t k = 0; k < rounds; ++k) {
+        if (k < listed) {
+            const std::uint32_t cj = list.index[std::size_t(k) * list.stride + c];
+            const std::uint32_t j0 = list.cluster_begin[cj], j1 = list.cluster_begin[cj + 1];
+            for (std::uint32_t j = j0; j < j1; ++j) {
+                const CellCoords q = in.cell_coords[j];
+                std::uint32_t entry;
+                if (!cluster_candidate_entry<CellOffsets>(me, j, pos_i, ci, in.pos[j], int3v{q.x, q.y, q.z}, walls_out,
+                                                          in, reach2, entry))
+                    continue;
+                if (n < capacity) {
+                    if (n >= direct || n - stored >= list_stage_rows) {
+                        if (direct == 0xffffffffu) direct = n;
+                        index[std::size_t(n) * stride + i] = entry;
+                    } else {
+                        ring[n % list_stage_rows][lane] = entry;
+                    }
+                }
+                ++n;
+            }
+        }
+        // Lanes whose walk has ended hold no row back (their last rows wait in the ring).
+        const std::uint32_t filled = __reduce_min_sync(full_warp, staging && k < listed ? n : 0xffffffffu);
+        if (filled != 0xffffffffu) store_rows(filled);
+    }
+    store_rows(__reduce_max_sync(full_warp, staging ? min(min(n, direct), capacity) : 0u));
+    if (valid) count[i] = n;
+}
+
 // One thread per particle; the listed loop's launch policy (its loads; no lookahead, no entry
 // offsets: a cluster entry is an index only).
 template <class Kernel, bool Diffusion, class Policy, bool HitMasks>
@@ -101,6 +170,22 @@ void build_cluster_lists(const ForceInputs& in, const ClusterBox* boxes, const s
     if (clusters == 0) return;
     build_cluster_lists_kernel<<<blocks_for(clusters), block_size, 0, s>>>(in.cell_start, in.grid, boxes, cluster_of,
                                                                            clusters, reach, index, count, capacity);
+    SPH_CUDA_CHECK_LAUNCH();
+}
+
+void build_lists_from_clusters(const ForceInputs& in, const ClusterList& list, real reach2, std::uint32_t* index,
+                               std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, bool cell_offsets,
+                               ActiveRange range, std::uint32_t n, cudaStream_t s) {
+    SPH_CUDA_CHECK(cudaMemsetAsync(count, 0, std::size_t(n) * sizeof(std::uint32_t), s));
+    if (n == 0) return;
+    if (in.grid.any_periodic() || in.cell_coords == nullptr)
+        throw RunError("lists built from cluster lists need an open grid and the cell coordinates of their rebuild");
+    if (cell_offsets)
+        build_lists_from_clusters_kernel<true>
+            <<<blocks_for(n), block_size, 0, s>>>(in, list, reach2, index, count, stride, capacity, range);
+    else
+        build_lists_from_clusters_kernel<false>
+            <<<blocks_for(n), block_size, 0, s>>>(in, list, reach2, index, count, stride, capacity, range);
     SPH_CUDA_CHECK_LAUNCH();
 }
 

@@ -26,6 +26,13 @@ void fill_clusters(const ForceInputs& in, const std::uint32_t* column_first, std
 void build_cluster_lists(const ForceInputs& in, const ClusterBox* boxes, const std::uint32_t* cluster_of,
                          std::uint32_t clusters, real reach, std::uint32_t* index, std::uint32_t* count,
                          std::uint32_t capacity, cudaStream_t s);
+// Each particle's Verlet list (NeighbourList layout: column k of particle i at
+// index[k * stride + i], count[i]; ListEntry codes with cell_offsets) from the cluster lists, for
+// the particles of `range`; the others' counts zero. The caller reduces the counts and grows the
+// capacity, as after build_neighbour_lists.
+void build_lists_from_clusters(const ForceInputs& in, const ClusterList& list, real reach2, std::uint32_t* index,
+                               std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, bool cell_offsets,
+                               ActiveRange range, std::uint32_t n, cudaStream_t s);
 // The force loop over the cluster lists, one thread per particle of [0, list.end).
 void compute_forces_cluster_listed(const SubdomainConfig& cfg, const ForceInputs& in, const ClusterList& list,
                                    real4* force, cudaStream_t s);

@@ -279,14 +279,24 @@ public:
         if (cell_coords_.size() < n_) cell_coords_.allocate(n_);
         if (list_cell_offsets_ && build_frame_.size() < n_) build_frame_.allocate(n_);
         gpu::fill_cell_coords(cell_.data(), pos_.data(), kept_cells(), g, n_, stream_);
+        const bool from_clusters = cfg_.variants.list_build == ListBuildVariant::clusters;
+        if (from_clusters) {
+            require_open_grid_for_clusters(cfg_, "list_build = clusters");
+            make_clusters(cluster_reach_for_lists(reach, g));
+        }
         for (int attempt = 0; attempt < 2; ++attempt) {
             const std::size_t need = std::size_t(list_capacity_) * n_;
             if (list_index_.size() < need) {
                 list_index_ = DeviceBuffer<std::uint32_t>();  // free first: the lists are the largest buffer
                 list_index_.allocate(need);
             }
-            gpu::build_neighbour_lists(cfg_, inputs(), reach * reach, list_index_.data(), list_count_.data(), n_,
-                                       list_capacity_, list_cell_offsets_, active_range(), n_, stream_);
+            if (from_clusters)
+                gpu::build_lists_from_clusters(inputs(), cluster_list(), reach * reach, list_index_.data(),
+                                               list_count_.data(), n_, list_capacity_, list_cell_offsets_,
+                                               active_range(), n_, stream_);
+            else
+                gpu::build_neighbour_lists(cfg_, inputs(), reach * reach, list_index_.data(), list_count_.data(), n_,
+                                           list_capacity_, list_cell_offsets_, active_range(), n_, stream_);
             const std::uint32_t longest =
                 gpu::longest_list(list_count_.data(), n_, temp_.data(), temp_bytes_, counters32_.data(), stream_);
             if (longest <= list_capacity_) return;
@@ -296,9 +306,7 @@ public:
     void compute_forces_listed() override {
         use_device();
         if (clustered()) {
-            const ClusterList list{cluster_index_.data(), cluster_count_.data(), clusters_, cluster_of_.data(),
-                                   cluster_begin_.data(), cluster_end_};
-            return gpu::compute_forces_cluster_listed(cfg_, inputs(), list, force_.data(), stream_);
+            return gpu::compute_forces_cluster_listed(cfg_, inputs(), cluster_list(), force_.data(), stream_);
         }
         const NeighbourList list{list_index_.data(), list_count_.data(), n_, list_cell_offsets_};
         gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), active_range(), n_, stream_);
@@ -393,6 +401,11 @@ private:
         list_cell_offsets_ = false;
         if (cell_coords_.size() < n_) cell_coords_.allocate(n_);
         gpu::fill_cell_coords(cell_.data(), pos_.data(), kept_cells(), cfg_.grid, n_, stream_);
+        make_clusters(reach);
+    }
+    // The clusters of the particles inside the domain, their boxes and each one's list of the
+    // clusters within `reach` (after the cell coordinates: the boxes read the sorted cells).
+    void make_clusters(real reach) {
         const std::uint32_t columns = std::uint32_t(cfg_.grid.nx) * std::uint32_t(cfg_.grid.ny);
         if (column_first_.size() < columns + 1) {
             column_count_.allocate(columns + 1);
@@ -429,6 +442,10 @@ private:
         // Not reached (the second build fits what the first counted); never run with lists cut short.
         throw RunError("cluster lists of " + std::to_string(nc) + " clusters outgrew their capacity of " +
                        std::to_string(cluster_capacity_) + " entries a cluster twice");
+    }
+    ClusterList cluster_list() const {
+        return {cluster_index_.data(), cluster_count_.data(), clusters_, cluster_of_.data(), cluster_begin_.data(),
+                cluster_end_};
     }
     ForceInputs inputs() const {
         const bool kept = keeps_cell_coords();

@@ -422,11 +422,12 @@ void require_stencil_reach(const SubdomainConfig& cfg, real reach) {
                    std::to_string(std::min({cs.x, cs.y, cs.z})) + " m: pairs beyond the stencil would be missed");
 }
 
-void require_open_grid_for_clusters(const SubdomainConfig& cfg) {
+void require_open_grid_for_clusters(const SubdomainConfig& cfg, const char* setting) {
     if (!cfg.grid.any_periodic()) return;
-    throw RunError("cluster lists (list_layout = cluster) take open grids only, and this scene's grid is periodic "
+    const std::string key = std::string(setting).substr(0, std::string(setting).find(' '));
+    throw RunError("cluster lists (" + std::string(setting) + ") take open grids only, and this scene's grid is periodic "
                    "along " + std::string(cfg.grid.periodic_x ? "x" : cfg.grid.periodic_y ? "y" : "z") +
-                   "; use list_layout = auto");
+                   "; use " + key + " = auto");
 }
 
 std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t) {

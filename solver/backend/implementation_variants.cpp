@@ -27,9 +27,10 @@ const std::vector<ImplementationVariant>& implementation_variant_registry() {
          [](const ImplementationVariants& v) { return int(v.force_loop); },
          [](ImplementationVariants& v, int k) { v.force_loop = ForceLoopVariant(k); }},
         {"list_build",
-         {"auto", "per-lane"},
+         {"auto", "per-lane", "clusters"},
          "CUDA Verlet-list build: auto walks a warp's lanes in step and stores its rows together (1.9 against 2.3 ms "
-         "on half cells); per-lane is the fallback for merged z-runs across a periodic z face",
+         "on half cells); per-lane is the fallback for merged z-runs across a periodic z face; clusters (an "
+         "experiment, change 15) builds cluster lists first and each particle's list from its cluster's (open grids)",
          [](const ImplementationVariants& v) { return int(v.list_build); },
          [](ImplementationVariants& v, int k) { v.list_build = ListBuildVariant(k); }},
         {"list_entries",

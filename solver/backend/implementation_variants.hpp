@@ -28,6 +28,7 @@ enum class ForceLoopVariant : std::uint8_t {
 enum class ListBuildVariant : std::uint8_t {
     automatic,  // "auto": with a warp's lanes in step where the stencil allows it
     per_lane,   // "per-lane": lane by lane everywhere
+    clusters,   // "clusters": from cluster lists (each cluster's clusters within reach), open grids
 };
 // What a Verlet list's entry holds.
 enum class ListEntriesVariant : std::uint8_t {

@@ -135,8 +135,9 @@ public:
 
 // Throws RunError when the grid's cells are too small for lists of this reach.
 void require_stencil_reach(const SubdomainConfig& cfg, real reach);
-// Throws RunError, one sentence, when cluster lists are asked for on a periodic grid.
-void require_open_grid_for_clusters(const SubdomainConfig& cfg);
+// Throws RunError, one sentence, when cluster lists are asked for on a periodic grid (setting:
+// the variant that asked, "list_layout = cluster" or "list_build = clusters").
+void require_open_grid_for_clusters(const SubdomainConfig& cfg, const char* setting = "list_layout = cluster");
 
 std::unique_ptr<Subdomain> make_host_subdomain(const SubdomainConfig& cfg, std::size_t capacity);
 // Throws RunError naming the need and the free memory when the scene does not fit.
