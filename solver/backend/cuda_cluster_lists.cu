@@ -5,6 +5,8 @@
 // thread per cluster builds its list, one thread per particle walks it; the lanes of a cluster
 // read the same entries and the same j, so a warp's gathers touch a few places, not 32.
 #include <cub/device/device_scan.cuh>
+#include <cstdlib>
+#include <type_traits>
 
 #include "backend/cuda_check.cuh"
 #include "backend/cuda_cluster_lists.cuh"
@@ -56,9 +58,7 @@ __global__ void __launch_bounds__(block_size)
 // each lane stages its newest entries in a ring in shared memory, and after each listed cluster
 // the warp stores the rows all its running lanes have filled, 128 coalesced bytes a row; a lane
 // more than list_stage_rows ahead stores the rest itself, and walls store theirs from the start.
-constexpr std::uint32_t list_stage_rows = 32;
-
-template <bool CellOffsets>
+template <bool CellOffsets, std::uint32_t list_stage_rows>
 __global__ void __launch_bounds__(block_size)
     build_lists_from_clusters_kernel(ForceInputs in, ClusterList list, real reach2, std::uint32_t* index,
                                      std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity,
@@ -110,6 +110,87 @@ __global__ void __launch_bounds__(block_size)
             }
         }
         // Lanes whose walk has ended hold no row back (their last rows wait in the ring).
+        const std::uint32_t filled = __reduce_min_sync(full_warp, staging && k < listed ? n : 0xffffffffu);
+        if (filled != 0xffffffffu) store_rows(filled);
+    }
+    store_rows(__reduce_max_sync(full_warp, staging ? min(min(n, direct), capacity) : 0u));
+    if (valid) count[i] = n;
+}
+
+// EXPERIMENT (branch only, SPH_EXP_GROUPED=1): the same lists with 8 lanes per cluster, aligned
+// (thread 8c + s is particle s of cluster c, idle past the cluster's end): each round the 8
+// lanes of a cluster load the listed cluster's particles once, coalesced, into shared memory
+// and every lane tests all of them from there, where the kernel above has every lane load every
+// candidate itself (ncu: 3.74 ms, stalled on the L1 70% of the time, 7% L1 hits).
+template <bool CellOffsets, std::uint32_t list_stage_rows>
+__global__ void __launch_bounds__(block_size)
+    build_lists_from_clusters_grouped_kernel(ForceInputs in, ClusterList list, std::uint32_t clusters, real reach2,
+                                             std::uint32_t* index, std::uint32_t* count, std::uint32_t stride,
+                                             std::uint32_t capacity) {
+    __shared__ std::uint32_t stage[block_size / 32][list_stage_rows][32];
+    __shared__ real4 cand_pos[block_size / 32][32];
+    __shared__ CellCoords cand_cell[block_size / 32][32];  // .unused: 1 for a wall
+    const std::uint32_t g = blockIdx.x * blockDim.x + threadIdx.x;
+    const std::uint32_t lane = threadIdx.x % 32, w = threadIdx.x / 32;
+    if ((g - lane) / cluster_size >= clusters) return;  // the whole warp is past the end
+    const bool in_cluster = g / cluster_size < clusters;
+    const std::uint32_t c = in_cluster ? g / cluster_size : clusters - 1;
+    const std::uint32_t slot = lane % cluster_size, group = lane - slot;
+    const std::uint32_t b = list.cluster_begin[c], e = list.cluster_begin[c + 1];
+    const std::uint32_t i = b + slot;
+    const bool valid = in_cluster && i < e;
+    const std::uint32_t me = valid ? i : b;
+    auto& ring = stage[w];
+    const real4 pos_i = in.pos[me];
+    const CellCoords own = in.cell_coords[me];
+    const int3v ci{own.x, own.y, own.z};
+    const bool walls_out = list_keeps_walls_out(me, in);
+    const bool any_walls_out = __any_sync(full_warp, valid && walls_out);
+    const std::uint32_t listed = in_cluster ? list.count[c] : 0;
+    const std::uint32_t rounds = __reduce_max_sync(full_warp, listed);
+    std::uint32_t n = 0, stored = 0;
+    std::uint32_t direct = valid && !is_boundary(in.velrho[me]) ? 0xffffffffu : 0u;
+    const bool staging = direct != 0;
+    const auto store_rows = [&](std::uint32_t up_to) {
+        const std::uint32_t mine = min(min(n, direct), capacity);
+        for (std::uint32_t r = stored; r < up_to; ++r)
+            if (valid && r < mine) index[std::size_t(r) * stride + i] = ring[r % list_stage_rows][lane];
+        stored = up_to;
+    };
+    for (std::uint32_t k = 0; k < rounds; ++k) {
+        std::uint32_t j0 = 0, j1 = 0;
+        if (k < listed) {
+            const std::uint32_t cj = list.index[std::size_t(k) * list.stride + c];
+            j0 = list.cluster_begin[cj];
+            j1 = list.cluster_begin[cj + 1];
+        }
+        if (j0 + slot < j1) {
+            const std::uint32_t j = j0 + slot;
+            cand_pos[w][lane] = in.pos[j];
+            CellCoords q = in.cell_coords[j];
+            q.unused = any_walls_out && is_boundary(in.velrho[j]) ? 1 : 0;
+            cand_cell[w][lane] = q;
+        }
+        __syncwarp();
+        if (valid)
+            for (std::uint32_t m = 0; m < j1 - j0; ++m) {
+                const CellCoords q = cand_cell[w][group + m];
+                std::uint32_t entry;
+                if (!cluster_candidate_entry<CellOffsets>(me, j0 + m, pos_i, ci, cand_pos[w][group + m],
+                                                          int3v{q.x, q.y, q.z}, false, in, reach2, entry))
+                    continue;
+                if (walls_out && q.unused) continue;
+                if (n < capacity) {
+                    if (n >= direct || n - stored >= list_stage_rows) {
+                        if (direct == 0xffffffffu) direct = n;
+                        index[std::size_t(n) * stride + i] = entry;
+                    } else {
+                        ring[n % list_stage_rows][lane] = entry;
+                    }
+                }
+                ++n;
+            }
+        __syncwarp();  // every lane has read the candidates before the next round writes them
         const std::uint32_t filled = __reduce_min_sync(full_warp, staging && k < listed ? n : 0xffffffffu);
         if (filled != 0xffffffffu) store_rows(filled);
     }
@@ -180,12 +261,32 @@ void build_lists_from_clusters(const ForceInputs& in, const ClusterList& list, r
     if (n == 0) return;
     if (in.grid.any_periodic() || in.cell_coords == nullptr)
         throw RunError("lists built from cluster lists need an open grid and the cell coordinates of their rebuild");
-    if (cell_offsets)
-        build_lists_from_clusters_kernel<true>
-            <<<blocks_for(n), block_size, 0, s>>>(in, list, reach2, index, count, stride, capacity, range);
-    else
-        build_lists_from_clusters_kernel<false>
-            <<<blocks_for(n), block_size, 0, s>>>(in, list, reach2, index, count, stride, capacity, range);
+    // EXPERIMENT (branch only): the ring's rows, 8, 16 or 32 (SPH_EXP_STAGE_ROWS): the ring takes
+    // shared memory from the L1 that the candidates' loads would hit (ncu: 7% L1 hits with 32).
+    static const int rows = [] {
+        const char* e = std::getenv("SPH_EXP_STAGE_ROWS");
+        return e ? std::atoi(e) : 32;
+    }();
+    static const bool grouped = [] {
+        const char* e = std::getenv("SPH_EXP_GROUPED");
+        return e && std::atoi(e) == 1;
+    }();
+    const auto launch = [&](auto offsets, auto stage_rows) {
+        if (grouped)
+            build_lists_from_clusters_grouped_kernel<decltype(offsets)::value, decltype(stage_rows)::value>
+                <<<blocks_for(list.stride * cluster_size), block_size, 0, s>>>(in, list, list.stride, reach2, index,
+                                                                             count, stride, capacity);
+        else
+            build_lists_from_clusters_kernel<decltype(offsets)::value, decltype(stage_rows)::value>
+                <<<blocks_for(n), block_size, 0, s>>>(in, list, reach2, index, count, stride, capacity, range);
+    };
+    const auto with_rows = [&](auto offsets) {
+        if (rows == 8) launch(offsets, std::integral_constant<std::uint32_t, 8>{});
+        else if (rows == 16) launch(offsets, std::integral_constant<std::uint32_t, 16>{});
+        else launch(offsets, std::integral_constant<std::uint32_t, 32>{});
+    };
+    if (cell_offsets) with_rows(std::true_type{});
+    else with_rows(std::false_type{});
     SPH_CUDA_CHECK_LAUNCH();
 }
 
