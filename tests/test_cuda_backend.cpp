@@ -124,30 +124,33 @@ TEST_P(CudaVariants, MatchTheHostBackendAfterNSteps) {
     }
 }
 
-// A variant that changes only how the GPU stores the same lists gives the default's particles
-// bit for bit: list_build = per-lane builds the same entries in the same order (change 9 of
-// docs/force-loop-notes.md: 3000 steps the same to the bit).
+// A variant that changes only how the GPU builds the same lists gives the default's particles
+// bit for bit: the default builds each particle's list from cluster lists on an open grid
+// (change 15), list_build = in-step from its stencil with a warp's lanes in step (change 9),
+// list_build = per-lane lane by lane; all three write the same entries in the same order.
 // (The other variants change the sums' arithmetic or order: the test above holds them to the host.)
-TEST(CudaBackend, PerLaneListBuildMatchesTheDefaultBitwise) {
+TEST(CudaBackend, ListBuildVariantsMatchTheDefaultBitwise) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
-    ImplementationVariants v;
-    v.list_build = ListBuildVariant::per_lane;
     const Scene s = test::small_dambreak("0.02");
-    for (const SearchOptions search : {SearchOptions{1, false, true}, SearchOptions{2, true, true}}) {
-        SolverOptions base, variant;
-        base.backend = variant.backend = BackendKind::cuda;
-        base.search = variant.search = search;
-        base.fixed_dt = variant.fixed_dt = 1.4e-4;
-        variant.variants = v;
-        Simulation a(s, base), b(s, variant);
-        test::step_both(a, b, 200);
-        const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
-        std::size_t differ = 0;
-        for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
-        std::printf("cuda, %s against the defaults, n = %d, merge = %d, Verlet lists, 200 steps: %zu particles differ\n",
-                    describe_implementation_variants(v).c_str(), search.cells_per_support, int(search.merge), differ);
-        EXPECT_EQ(differ, 0u);
-    }
+    for (const ListBuildVariant build : {ListBuildVariant::in_step, ListBuildVariant::per_lane})
+        for (const SearchOptions search : {SearchOptions{1, false, true}, SearchOptions{2, true, true}}) {
+            ImplementationVariants v;
+            v.list_build = build;
+            SolverOptions base, variant;
+            base.backend = variant.backend = BackendKind::cuda;
+            base.search = variant.search = search;
+            base.fixed_dt = variant.fixed_dt = 1.4e-4;
+            variant.variants = v;
+            Simulation a(s, base), b(s, variant);
+            test::step_both(a, b, 400);
+            EXPECT_GT(a.neighbour_list_builds(), 1);
+            const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
+            std::size_t differ = 0;
+            for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+            std::printf("cuda, %s against the defaults, n = %d, merge = %d, Verlet lists, 400 steps: %zu particles differ\n",
+                        describe_implementation_variants(v).c_str(), search.cells_per_support, int(search.merge), differ);
+            EXPECT_EQ(differ, 0u);
+        }
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, CudaVariants, ::testing::ValuesIn(variant_cases()),

@@ -129,13 +129,14 @@ bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n) {
            ListEntry::fits(n, cfg.search.cells_per_support);
 }
 
-// list_build = per-lane builds lane by lane (build_lists_kernel) where the policy walks in
-// step: the build merged z-runs across a periodic z face need, selectable to test it anywhere.
+// The stencil's builds (list_build = in-step, and auto where cluster lists cannot run: periodic
+// grids); list_build = per-lane builds lane by lane (build_lists_kernel) where the policy walks
+// in step: the build merged z-runs across a periodic z face need, selectable to test it anywhere.
 template <class Search, bool CellOffsets>
 void launch_list_build(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
                        std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, ActiveRange range,
                        std::uint32_t n, cudaStream_t s) {
-    const bool in_step = ListedLoopPolicy::build_in_step && cfg.variants.list_build == ListBuildVariant::automatic;
+    const bool in_step = ListedLoopPolicy::build_in_step && cfg.variants.list_build != ListBuildVariant::per_lane;
     if (in_step && !(Search::merge && in.grid.periodic_z))
         build_lists_in_step_kernel<Search, CellOffsets>
             <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);

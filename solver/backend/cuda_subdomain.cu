@@ -278,14 +278,22 @@ public:
         if (cell_coords_.size() < n_) cell_coords_.allocate(n_);
         if (list_cell_offsets_ && build_frame_.size() < n_) build_frame_.allocate(n_);
         gpu::fill_cell_coords(cell_.data(), pos_.data(), kept_cells(), g, n_, stream_);
+        // list_build = auto on an open grid: cluster lists first, then each particle's list
+        // from its cluster's (change 15); the stencil's build elsewhere.
+        const bool from_clusters = cfg_.variants.list_build == ListBuildVariant::automatic && !g.any_periodic();
+        if (from_clusters) make_clusters(cluster_reach_for_lists(reach, g));
         for (int attempt = 0; attempt < 2; ++attempt) {
             const std::size_t need = std::size_t(list_capacity_) * n_;
             if (list_index_.size() < need) {
                 list_index_ = DeviceBuffer<std::uint32_t>();  // free first: the lists are the largest buffer
                 list_index_.allocate(need);
             }
-            gpu::build_neighbour_lists(cfg_, inputs(), reach * reach, list_index_.data(), list_count_.data(), n_,
-                                       list_capacity_, list_cell_offsets_, active_range(), n_, stream_);
+            if (from_clusters)
+                gpu::build_lists_from_clusters(inputs(), cluster_list(), reach * reach, list_index_.data(),
+                                               list_count_.data(), n_, list_capacity_, list_cell_offsets_, n_, stream_);
+            else
+                gpu::build_neighbour_lists(cfg_, inputs(), reach * reach, list_index_.data(), list_count_.data(), n_,
+                                           list_capacity_, list_cell_offsets_, active_range(), n_, stream_);
             const std::uint32_t longest =
                 gpu::longest_list(list_count_.data(), n_, temp_.data(), temp_bytes_, counters32_.data(), stream_);
             if (longest <= list_capacity_) return;
@@ -298,7 +306,9 @@ public:
         gpu::compute_forces_listed(cfg_, inputs(), list, force_.data(), active_range(), n_, stream_);
     }
     std::size_t neighbour_list_bytes() const override {
-        return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes() + build_frame_.bytes();
+        return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes() + build_frame_.bytes() +
+               cluster_index_.bytes() + cluster_count_.bytes() + cluster_boxes_.bytes() + cluster_begin_.bytes() +
+               cluster_of_.bytes() + column_count_.bytes() + column_first_.bytes() + cluster_scan_temp_.bytes();
     }
 
     void advance(const TimeStep& step) override {
@@ -375,6 +385,50 @@ public:
     PhaseClock& clock() override { return clock_; }
 
 private:
+    // The clusters of the particles inside the domain, their boxes and each one's list of the
+    // clusters within `reach` (after the cell coordinates: the boxes read the sorted cells).
+    void make_clusters(real reach) {
+        const std::uint32_t columns = std::uint32_t(cfg_.grid.nx) * std::uint32_t(cfg_.grid.ny);
+        if (column_first_.size() < columns + 1) {
+            column_count_.allocate(columns + 1);
+            column_first_.allocate(columns + 1);
+            cluster_scan_temp_.allocate(gpu::cluster_scan_temp_bytes(columns));
+        }
+        const ForceInputs in = inputs();
+        const std::uint32_t nc = gpu::count_clusters(in, column_count_.data(), column_first_.data(),
+                                                     cluster_scan_temp_.data(), cluster_scan_temp_.bytes(), stream_);
+        clusters_ = nc;
+        cluster_end_ = cell_starts({cfg_.grid.cell_count()})[0];  // the particles inside the domain
+        if (cluster_boxes_.size() < nc || cluster_of_.size() < n_) {
+            cluster_boxes_.allocate(nc + nc / 8);
+            cluster_count_.allocate(nc + nc / 8);
+            cluster_begin_.allocate(nc + nc / 8 + 1);
+            cluster_of_.allocate(pos_.size());
+        }
+        gpu::fill_clusters(in, column_first_.data(), nc, cluster_begin_.data(), cluster_of_.data(),
+                           cluster_boxes_.data(), stream_);
+        if (nc == 0) return;
+        for (int attempt = 0; attempt < 2; ++attempt) {
+            const std::size_t need = std::size_t(cluster_capacity_) * nc;
+            if (cluster_index_.size() < need) {
+                cluster_index_ = DeviceBuffer<std::uint32_t>();  // free first: the lists are the largest buffer
+                cluster_index_.allocate(need + need / 8);
+            }
+            gpu::build_cluster_lists(in, cluster_boxes_.data(), cluster_of_.data(), nc, reach, cluster_index_.data(),
+                                     cluster_count_.data(), cluster_capacity_, stream_);
+            const std::uint32_t longest =
+                gpu::longest_list(cluster_count_.data(), nc, temp_.data(), temp_bytes_, counters32_.data(), stream_);
+            if (longest <= cluster_capacity_) return;
+            cluster_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
+        }
+        // Not reached (the second build fits what the first counted); never run with lists cut short.
+        throw RunError("cluster lists of " + std::to_string(nc) + " clusters outgrew their capacity of " +
+                       std::to_string(cluster_capacity_) + " entries a cluster twice");
+    }
+    ClusterList cluster_list() const {
+        return {cluster_index_.data(), cluster_count_.data(), clusters_, cluster_of_.data(), cluster_begin_.data(),
+                cluster_end_};
+    }
     ForceInputs inputs() const {
         const bool kept = keeps_cell_coords();
         return {pos_.data(), velrho_.data(), velrho_prev_.data(), cell_.data(), cell_start_.data(), fluid_begin_.data(),
@@ -418,6 +472,12 @@ private:
     DeviceBuffer<real4> build_frame_;  // KeptCells::build_frame, while list_cell_offsets_
     bool list_cell_offsets_ = false;   // the lists' entries are ListEntry codes
     std::uint32_t list_capacity_ = 64;
+    // The rebuild's clusters (ClusterList), their boxes and lists, and the columns' cluster
+    // counts and first clusters (list_build = auto on open grids).
+    DeviceBuffer<ClusterBox> cluster_boxes_;
+    DeviceBuffer<std::uint32_t> cluster_index_, cluster_count_, cluster_begin_, cluster_of_, column_count_, column_first_;
+    DeviceBuffer<unsigned char> cluster_scan_temp_;
+    std::uint32_t clusters_ = 0, cluster_end_ = 0, cluster_capacity_ = 64;
     StepStats* host_stats_ = nullptr;
     DeviceBuffer<real4> recv_pos_, recv_velrho_, recv_velrho_prev_;  // the receive area of exchanges
     DeviceBuffer<std::uint32_t> recv_cell_, recv_id_;

@@ -16,7 +16,7 @@ std::string quoted_list(const std::vector<std::string>& items) {
 
 }  // namespace
 
-// The measurements each why cites are in docs/force-loop-notes.md (changes 7, 9 and 12).
+// The measurements each why cites are in docs/force-loop-notes.md (changes 7, 9, 12 and 15).
 const std::vector<ImplementationVariant>& implementation_variant_registry() {
     static const std::vector<ImplementationVariant> registry = {
         {"force_loop",
@@ -27,9 +27,10 @@ const std::vector<ImplementationVariant>& implementation_variant_registry() {
          [](const ImplementationVariants& v) { return int(v.force_loop); },
          [](ImplementationVariants& v, int k) { v.force_loop = ForceLoopVariant(k); }},
         {"list_build",
-         {"auto", "per-lane"},
-         "CUDA Verlet-list build: auto walks a warp's lanes in step and stores its rows together (1.9 against 2.3 ms "
-         "on half cells); per-lane is the fallback for merged z-runs across a periodic z face",
+         {"auto", "in-step", "per-lane"},
+         "CUDA Verlet-list build: auto builds cluster lists first and each particle's list from its cluster's on open "
+         "grids (change 15); in-step walks a warp's lanes' stencils in step and stores its rows together, the fallback "
+         "for periodic grids; per-lane, lane by lane, the fallback for merged z-runs across a periodic z face",
          [](const ImplementationVariants& v) { return int(v.list_build); },
          [](ImplementationVariants& v, int k) { v.list_build = ListBuildVariant(k); }},
         {"list_entries",

@@ -24,7 +24,8 @@ enum class ForceLoopVariant : std::uint8_t {
 };
 // How a rebuild writes the Verlet lists.
 enum class ListBuildVariant : std::uint8_t {
-    automatic,  // "auto": with a warp's lanes in step where the stencil allows it
+    automatic,  // "auto": from cluster lists on open grids (cuda_cluster_lists.cu), in step elsewhere
+    in_step,    // "in-step": with a warp's lanes walking their stencils in step where the stencil allows it
     per_lane,   // "per-lane": lane by lane everywhere
 };
 // What a Verlet list's entry holds.
