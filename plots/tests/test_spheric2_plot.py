@@ -107,6 +107,10 @@ def test_errors(root):
         assert abs(off[f"{probe}_rms"] - 0.02) < 1e-6, (probe, off[f"{probe}_rms"])
     assert abs(off["P1_peak_dt_ms"] - 5) <= 1, off["P1_peak_dt_ms"]
     assert abs(off["P1_peak_err"] - 0.1) < 0.02, off["P1_peak_err"]
+    # The 10 kPa triangle 20 ms wide holds 100 Pa s, 2 of them on its rise below a fifth of the
+    # peak (before the arrival); scaled by 1.1 and 5 ms late: +10%, +5 ms.
+    assert 95 < exact["P1_impulse"] < 99 and abs(exact["P1_impulse_err"]) < 0.01, exact["P1_impulse"]
+    assert abs(off["P1_impulse_err"] - 0.1) < 0.01 and abs(off["P1_arrival_dt_ms"] - 5) <= 1, off
     assert off["P5_rms_kpa"] < 1e-9
     more, _ = spheric2.dsph_runs(dsph, measured)
     assert len(more) == 1 and abs(more[0]["H2_rms"] - 0.01) < 1e-6 and more[0]["dp"] == 0.01, more
@@ -124,6 +128,7 @@ def test_script(root, measured_path):
     targets = [ln for ln in p.stdout.splitlines() if "target:" in ln]
     assert len(targets) == 2 and "NOT MET (not closer on every probe, faster)" in targets[0], p.stdout
     assert "P1 first peak at dp 0.01 (dp0.01-wendland-lists)" in targets[1] and "NOT MET" not in targets[1], p.stdout
+    assert "P1 impulse over 100 ms from the arrival, dp0.01-wendland-cells" in p.stdout, p.stdout
     data = sphplot.read_csv_with_metadata(out / "spheric2.csv")[0]
     front = set(data[data["pareto"]]["run"])
     # dp0.02 (4 s, 0%) dominates every other run.
