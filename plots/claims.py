@@ -256,6 +256,29 @@ def skip_bench(folder, does, skips):
                 _item="skip-bench")
 
 
+def whole_run(folder):
+    """DualSPHysics' dam break 1.04M over its whole event with our fastest path (Verlet lists), per
+    kernel: seconds per simulated second, bytes a particle, a rebuild step in listed steps
+    (results of `make reference`'s whole-run item, or bench/lease/whole-run.sh's)."""
+    runs = {}
+    for path in sorted(folder.glob("dambreak-1.04M-*-lists.runs.csv")):
+        df, meta = sphplot.read_csv_with_metadata(path)
+        r = df.iloc[0]
+        runs[str(r["set.kernel"]) if "set.kernel" in df.columns else path.stem] = (r, meta)
+    if not runs:
+        raise Missing(f"no dambreak-1.04M-*-lists.runs.csv in {folder}")
+    s = [float(r["s_per_sim_s"]) for r, _ in runs.values()]
+    b = [float(r["bytes_per_particle"]) for r, _ in runs.values()]
+    q = [float(r["rebuild_step_ms"]) / float(r["listed_step_ms"]) for r, _ in runs.values()]
+    listed = [float(r["listed_step_ms"]) for r, _ in runs.values()]
+    steps = [float(r["steps"]) / float(r["sim_time"]) for r, _ in runs.values()]
+    every = [float(r["steps"]) / max(float(r["list_rebuilds"]), 1.0) for r, _ in runs.values()]
+    cases = ", ".join(f"{k} {float(r['s_per_sim_s']):.1f} s" for k, (r, _) in sorted(runs.items()))
+    return dict(lo=min(s), hi=max(s), cases=cases, bytes_lo=min(b), bytes_hi=max(b), ratio_lo=min(q), ratio_hi=max(q),
+                listed_lo=min(listed), budget=20e3 / max(steps), steps=max(steps), every_lo=min(every),
+                every_hi=max(every), n=len(runs), _meta=next(iter(runs.values()))[1])
+
+
 def _spheric2(folder):
     import spheric2
     if not (folder / "spheric2" / "runs.csv").is_file():
@@ -289,8 +312,8 @@ def spheric2_p1(folder):
 
 
 METRICS = {f.__name__: f for f in (cll_vs_vl, fig3_speedup, fig3_best, fig4_change, balance, speedup, speedup_by_size,
-                                   threshold_gain, transports, dualsphysics, skip_bench, spheric2_heights,
-                                   spheric2_p1)}
+                                   threshold_gain, transports, dualsphysics, skip_bench, whole_run,
+                                   spheric2_heights, spheric2_p1)}
 
 
 # --------------------------------------------------------------------------------------------
