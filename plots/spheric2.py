@@ -15,10 +15,10 @@ Errors, the same for every code:
       P1-P4: the first impact's peak (the largest value in 0.3-0.8 s) and its time against the
       measured one; and its impulse, the integral of the pressure over the 100 ms from its arrival
       (the first time in 0.3-0.8 s the series passes a fifth of its own first peak), against the
-      measured one, with the arrival's time. A weakly compressible impact rings at rho c0 U for a
-      few ms (the peak; c0 is 20 sqrt(g 0.55) = 46 m/s here, the water's 1480): the impulse,
-      the momentum the impact delivers, does not depend on that ringing. P5-P8: the RMS of the
-      difference over the run, in kPa.
+      measured one, with the arrival's time. Our impact rings for an acoustic period or two (the
+      period follows the sound speed, the first swing does not: docs/results.md), and the peak
+      holds that ringing; the impulse, the momentum the impact delivers, does not depend on it.
+      P5-P8: the RMS of the difference over the run, in kPa.
 The run time is seconds per simulated second over the whole run: ours s_per_sim_s (runs.csv),
 DualSPHysics' "Runtime per physical second" (Run.out, in its summary.tsv).
 
