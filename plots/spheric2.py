@@ -149,16 +149,21 @@ def dp_of(value):
 def read_our_gauges(path):
     """{gauge column: (times, values)} of a <run>_gauges.csv. Each gauge has its own interval:
     a row holds an empty cell for a gauge not sampled then (dropped here), and nan for one sampled
-    with no fluid where it looks (kept: a dry probe or sensor)."""
-    gauges, _ = sphplot.read_csv_with_metadata(path)
-    sphplot.require_columns(gauges, ["time"] + PROBES, path)
-    raw = pd.read_csv(path, comment=None, skiprows=len(gauges.attrs["meta"]), dtype=str, keep_default_na=False)
+    with no fluid where it looks (kept: a dry probe or sensor). The file is read once, as text, so
+    that the two stay apart."""
+    if not Path(path).is_file():
+        raise sphplot.ResultsError(f"{path} does not exist.")
+    raw = pd.read_csv(path, skiprows=sphplot.read_comment_block(path)[1], dtype=str, keep_default_na=False)
+    sphplot.require_columns(raw, ["time"] + PROBES, path)
+    times = pd.to_numeric(raw["time"], errors="coerce").to_numpy(float)
     series = {}
     for c in PROBES + SENSORS:
-        if c not in gauges.columns:
+        if c not in raw.columns:
             continue
-        sampled = raw[c].str.strip() != ""
-        series[c] = (gauges["time"][sampled].to_numpy(float), gauges[c][sampled].to_numpy(float))
+        cells = raw[c].str.strip()
+        sampled = (cells != "").to_numpy()
+        values = pd.to_numeric(cells[sampled], errors="coerce").to_numpy(float)
+        series[c] = (times[sampled], values)
     return series
 
 

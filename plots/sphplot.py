@@ -48,19 +48,26 @@ def apply_style():
     plt.rcParams.update(STYLE)
 
 
-def read_csv_with_metadata(path):
-    """Returns (DataFrame, {key: value}) for a harness CSV file."""
-    path = Path(path)
-    if not path.is_file():
-        raise ResultsError(f"{path} does not exist.")
-    meta, n_comment = {}, 0
+def read_comment_block(path):
+    """({key: value}, its line count) of a harness CSV's leading comment block ("# key: value"
+    lines; the count, not the keys, says where the table starts)."""
+    meta, lines = {}, 0
     with open(path, encoding="utf-8") as f:
         for line in f:
             if not line.startswith("#"):
                 break
             key, _, value = line[1:].partition(":")
             meta[key.strip()] = value.strip()
-            n_comment += 1
+            lines += 1
+    return meta, lines
+
+
+def read_csv_with_metadata(path):
+    """Returns (DataFrame, {key: value}) for a harness CSV file."""
+    path = Path(path)
+    if not path.is_file():
+        raise ResultsError(f"{path} does not exist.")
+    meta, n_comment = read_comment_block(path)
     # Skip the comment block by count rather than comment='#': the writer quotes cells holding
     # '#', and a data row must never be cut short at one.
     try:
