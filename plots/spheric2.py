@@ -109,6 +109,26 @@ def first_impulse(grid, p):
     return float(np.trapezoid(p[span], grid[span])), arrival
 
 
+RINGING_S = 0.04  # s after the unfiltered first peak in which its ringing's period is read
+
+
+def first_ringing(t, p):
+    """(the unfiltered first peak in Pa, the period in s of the ringing after it: the strongest
+    frequency of the RINGING_S that follow) of one sensor's raw series."""
+    t = np.asarray(t, float)
+    raw = np.nan_to_num(np.asarray(p, float))
+    inside = (t >= IMPACT_WINDOW[0]) & (t <= IMPACT_WINDOW[1])
+    if not inside.any():
+        return np.nan, np.nan
+    k = int(np.argmax(np.where(inside, raw, -np.inf)))
+    after = raw[(t >= t[k]) & (t < t[k] + RINGING_S)]
+    if len(after) < 4:
+        return float(raw[k]), np.nan
+    spectrum = np.abs(np.fft.rfft(after - after.mean()))
+    freq = np.fft.rfftfreq(len(after), d=float(np.median(np.diff(t))))
+    return float(raw[k]), float(1.0 / freq[1 + int(np.argmax(spectrum[1:]))])
+
+
 def run_errors(series, measured, end):
     """Errors of one run: series maps H1-H4 (and, for ours, P1-P8) to (times, values)."""
     row = {}
@@ -132,6 +152,9 @@ def run_errors(series, measured, end):
             row[f"{sensor}_impulse"] = impulse
             row[f"{sensor}_impulse_err"] = (impulse - mimpulse) / mimpulse
             row[f"{sensor}_arrival_dt_ms"] = (arrival - marrival) * 1e3
+            raw_peak, period = first_ringing(*series[sensor])
+            row[f"{sensor}_raw_peak_kpa"] = raw_peak / 1e3
+            row[f"{sensor}_ringing_ms"] = period * 1e3
         else:
             row[f"{sensor}_rms_kpa"] = float(np.sqrt(np.mean((ours - meas) ** 2))) / 1e3
     return row

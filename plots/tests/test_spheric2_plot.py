@@ -111,6 +111,12 @@ def test_errors(root):
     # peak (before the arrival); scaled by 1.1 and 5 ms late: +10%, +5 ms.
     assert 95 < exact["P1_impulse"] < 99 and abs(exact["P1_impulse_err"]) < 0.01, exact["P1_impulse"]
     assert abs(off["P1_impulse_err"] - 0.1) < 0.01 and abs(off["P1_arrival_dt_ms"] - 5) <= 1, off
+    assert abs(exact["P1_raw_peak_kpa"] - 10) < 1e-6, exact["P1_raw_peak_kpa"]
+    # A 200 Hz ringing after a peak: its period, 5 ms.
+    t = np.round(np.arange(0.0, 0.8, 0.001), 6)
+    ring = np.where(t >= 0.45, 50e3 * np.cos(2 * np.pi * 200 * (t - 0.45)) * np.exp(-(t - 0.45) / 0.02), 0.0)
+    peak, period = spheric2.first_ringing(t, ring)
+    assert abs(peak - 50e3) < 1 and abs(period - 0.005) < 1e-4, (peak, period)
     assert off["P5_rms_kpa"] < 1e-9
     more, _ = spheric2.dsph_runs(dsph, measured)
     assert len(more) == 1 and abs(more[0]["H2_rms"] - 0.01) < 1e-6 and more[0]["dp"] == 0.01, more
