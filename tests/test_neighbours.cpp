@@ -148,12 +148,13 @@ SortedCells sorted_cells(const RangeCase& rc, std::uint32_t seed_base) {
 // and kept, the list read one or two entries ahead, walls' lists of fluid only) must give the
 // host's listed loop's sums bit for bit: the same pairs in the same order through the same
 // arithmetic. Both run here, on the host.
-template <int Lookahead, bool WholeLoads = false>
+template <int Lookahead, bool WholeLoads = false, bool ChunkLoads = false>
 struct GpuLikeListedLoop {
     static constexpr bool packed_cells = true;
     static constexpr bool early_loads = true;
     static constexpr bool whole_loads = WholeLoads;
     static constexpr int index_lookahead = Lookahead;
+    static constexpr bool chunk_loads = ChunkLoads;
     static constexpr bool entry_offsets = false;
 };
 
@@ -222,11 +223,19 @@ TEST_P(ListedLoopChoices, GiveTheHostLoopsSumsBitwise) {
         ASSERT_EQ(std::memcmp(&want, &one, sizeof want), 0) << "particle " << i << ", lookahead 1";
         ASSERT_EQ(std::memcmp(&want, &two, sizeof want), 0) << "particle " << i << ", lookahead 2";
         ASSERT_EQ(std::memcmp(&want, &whole, sizeof want), 0) << "particle " << i << ", whole loads";
+        const real4 chunked =
+            particle_force_listed<CubicSpline, true, GpuLikeListedLoop<0, true, true>>(i, gpu_in, gpu_list, p, kernel);
+        ASSERT_EQ(std::memcmp(&want, &chunked, sizeof want), 0) << "particle " << i << ", chunk loads";
         if (!rc.periodic) {
             ASSERT_EQ(coded_count[i], gpu_count[i]);
             const real4 coded = particle_force_listed<CubicSpline, true, WithEntryOffsets<GpuLikeListedLoop<2, true>>>(
                 i, framed_in, coded_list, p, kernel);
             ASSERT_EQ(std::memcmp(&want, &coded, sizeof want), 0) << "particle " << i << ", entries with cell offsets";
+            const real4 coded_chunks =
+                particle_force_listed<CubicSpline, true, WithEntryOffsets<GpuLikeListedLoop<0, true, true>>>(
+                    i, framed_in, coded_list, p, kernel);
+            ASSERT_EQ(std::memcmp(&want, &coded_chunks, sizeof want), 0)
+                << "particle " << i << ", entries with cell offsets, chunk loads";
         }
         ++compared;
     }
@@ -315,7 +324,7 @@ TEST_P(ListedLoopBuildFrame, FollowsParticlesIntoOtherCells) {
         got[i] = particle_force_listed<CubicSpline, true, WithEntryOffsets<GpuLikeListedLoop<2, true>>>(
             i, framed_in, coded_list, p, kernel);
         bool still = !moved[i];
-        for (std::uint32_t k = 0; k < plain_count[i]; ++k) still = still && !moved[plain_index[std::size_t(k) * n + i]];
+        for (std::uint32_t k = 0; k < plain_count[i]; ++k) still = still && !moved[plain_index[list_slot(k, i, n)]];
         untouched[i] = still;
         scale = std::max(scale, std::sqrt(double(dot(xyz(want[i]), xyz(want[i])))));
         drho_scale = std::max(drho_scale, std::abs(double(want[i].w)));

@@ -50,7 +50,11 @@ struct ListedLoopPolicySm90 {
     // loop is bound by the L1's throughput, and nvcc otherwise gathered the density, the
     // velocity-density and the pressure in three loads, not one (change 10).
     static constexpr bool whole_loads = true;
-    static constexpr int index_lookahead = 2;
+    // The list read a chunk (four entries, one 16-byte load) at a time, the next chunk while
+    // the current one is summed (change 17): a quarter of the list's load instructions, and as
+    // far ahead as index_lookahead = 2 (one entry at a time, two ahead, until change 17).
+    static constexpr bool chunk_loads = true;
+    static constexpr int index_lookahead = 0;
     // Not a tuning but the list's layout: the driver takes WithEntryOffsets<> of this policy
     // where the lists carry cell offsets (gpu::lists_take_cell_offsets).
     static constexpr bool entry_offsets = false;

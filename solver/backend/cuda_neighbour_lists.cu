@@ -23,54 +23,38 @@ __global__ void __launch_bounds__(block_size) build_lists_kernel(ForceInputs in,
     count[i] = build_particle_list<Search, CellOffsets>(i, in, reach2, index, stride, capacity);
 }
 
-// The listed loop: one thread per particle over its stored list, cells read as coordinates.
 // The same lists, built with a warp's lanes walking their stencils in step
-// (visit_ranges_in_step, as forces_compacted_kernel) and their rows stored together: each
-// lane keeps its newest entries in shared memory (a ring of list_stage_rows rows), and after
-// every range the warp stores the rows that all its lanes have filled, 128 coalesced bytes a
-// row. Stored lane by lane (build_lists_kernel), each 4-byte entry went to DRAM as a
-// partly written 32-byte sector: 6.8 GB moved for a 0.8 GB list on the dam break, ~6.5 of a
-// rebuild's 8.2 ms (docs/force-loop-notes.md, change 9). A lane more than list_stage_rows ahead of
-// the warp's slowest stores the rest of its list itself, and walls store theirs from the start.
+// (visit_ranges_in_step, as forces_compacted_kernel), each lane keeping its newest chunk of
+// list_chunk entries in registers and storing it whole, one aligned 16-byte piece, as soon as
+// it is full. (Before change 17 a warp staged 32 rows in shared memory and stored the rows all
+// its lanes had filled; a lane more than 32 rows ahead of the warp's shortest list stored 4
+// bytes at a time: in a flowing dam break ~37% of the entries, 6.5 sectors a store request and
+// 2.4 GB of DRAM writes for a 1 GB list, and the 16 KB of ring a block left the L1 ~20 KB.)
 // The same candidates in the same order (the StepwiseRanges test), so the same lists; not for
 // merged runs across a periodic z face, which come in pieces (the driver keeps the other
 // kernel there). CellOffsets stores ListEntry codes, as build_particle_list.
 constexpr std::uint32_t list_test_chunk = 8;  // a half cell holds ~7 particles on the dam break (cells of reach / 2)
-constexpr std::uint32_t list_stage_rows = 32;  // 16 KB a block: 46 registers, not shared memory, then bound the occupancy
 
 template <class Search, bool CellOffsets>
 __global__ void __launch_bounds__(block_size)
     build_lists_in_step_kernel(ForceInputs in, real reach2, std::uint32_t* index, std::uint32_t* count,
                                std::uint32_t stride, std::uint32_t capacity, ActiveRange range) {
-    __shared__ std::uint32_t stage[block_size / 32][list_stage_rows][32];
+    static_assert(list_chunk == 4, "a chunk's entries are set by a chain of selects");
     const std::uint32_t end = *range.end;
     const std::uint32_t i = *range.begin + blockIdx.x * blockDim.x + threadIdx.x;
-    const std::uint32_t lane = threadIdx.x % 32, first = i - lane;
+    const std::uint32_t first = i - threadIdx.x % 32;
     if (first >= end) return;  // the whole warp is past the end
     const bool valid = i < end;
     const std::uint32_t me = valid ? i : end - 1;  // a lane past the end walks nothing
-    auto& ring = stage[threadIdx.x / 32];
     const real4 pos_i = in.pos[me];
     const bool fluid_i = !is_boundary(in.velrho[me]);
     const GridView& g = in.grid;
     // A wall lists fluid only (build_particle_list): a cell's range starts at its fluid, a
     // merged run holds each cell's walls, which the test drops.
     const bool walls_out = Search::merge && !fluid_i;
-    std::uint32_t n = 0;                    // this lane's entries so far
-    std::uint32_t stored = 0;               // rows [0, stored) of every staging lane are in index (warp-uniform)
-    // This lane stores its rows from here on itself. A wall lists fluid only, a few entries
-    // where the fluid lanes of its warp list ~200: it stores its own from the start and does not
-    // count in the warp's filled rows. The expected gain (fluid lanes no longer running past the
-    // ring behind a wall) did not show: the build took the same time either way (change 9).
-    std::uint32_t direct = valid && fluid_i ? 0xffffffffu : 0u;
-    const bool staging = direct != 0;
-    // Rows [stored, up_to) of every lane that staged them, into index.
-    const auto store_rows = [&](std::uint32_t up_to) {
-        const std::uint32_t mine = min(min(n, direct), capacity);
-        for (std::uint32_t r = stored; r < up_to; ++r)
-            if (valid && r < mine) index[std::size_t(r) * stride + i] = ring[r % list_stage_rows][lane];
-        stored = up_to;
-    };
+    ListChunk* chunks = reinterpret_cast<ListChunk*>(index);
+    ListChunk newest{};      // entries [n - n % list_chunk, n) of this lane's list
+    std::uint32_t n = 0;     // this lane's entries so far
     Search::visit_ranges_in_step(
         g, in.cell_start, in.fluid_begin, g.decode(in.cell[me]), valid, !fluid_i,
         [&](std::uint32_t b, std::uint32_t e, int dx, int dy, typename Search::RangeZ z) {
@@ -93,25 +77,22 @@ __global__ void __launch_bounds__(block_size)
                 for (; hits != 0; hits &= hits - 1) {
                     const std::uint32_t j = j0 + std::uint32_t(lowest_set_bit(hits));
                     if (walls_out && is_boundary(in.velrho[j])) continue;
-                    if (n < capacity) {
-                        const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, dx, dy, z.of(in.cell, j)) : j;
-                        if (n >= direct || n - stored >= list_stage_rows) {
-                            if (direct == 0xffffffffu) direct = n;
-                            index[std::size_t(n) * stride + i] = entry;
-                        } else {
-                            ring[n % list_stage_rows][lane] = entry;
-                        }
-                    }
+                    const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, dx, dy, z.of(in.cell, j)) : j;
+                    const std::uint32_t slot = n % list_chunk;
+                    newest.e[0] = slot == 0 ? entry : newest.e[0];
+                    newest.e[1] = slot == 1 ? entry : newest.e[1];
+                    newest.e[2] = slot == 2 ? entry : newest.e[2];
+                    newest.e[3] = slot == 3 ? entry : newest.e[3];
+                    if (slot == list_chunk - 1 && n < capacity) chunks[std::size_t(n / list_chunk) * stride + i] = newest;
                     ++n;
                 }
             }
-            const std::uint32_t filled = __reduce_min_sync(full_warp, staging ? n : 0xffffffffu);
-            if (filled != 0xffffffffu) store_rows(filled);  // no lane of the warp stages: nothing to store
         });
-    store_rows(__reduce_max_sync(full_warp, staging ? min(min(n, direct), capacity) : 0u));
+    if (valid && n % list_chunk != 0 && n < capacity) chunks[std::size_t(n / list_chunk) * stride + i] = newest;
     if (valid) count[i] = n;
 }
 
+// The listed loop: one thread per particle over its stored list, cells read as coordinates.
 template <class Kernel, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
     forces_listed_kernel(ForceInputs in, NeighbourList list, PhysicsParams p, real4* __restrict__ force,

@@ -289,7 +289,7 @@ public:
             const std::uint32_t longest =
                 gpu::longest_list(list_count_.data(), n_, temp_.data(), temp_bytes_, counters32_.data(), stream_);
             if (longest <= list_capacity_) return;
-            list_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
+            list_capacity_ = list_capacity(longest + longest / 5 + 8);  // grow with room, then build again
         }
     }
     void compute_forces_listed() override {

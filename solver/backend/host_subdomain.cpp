@@ -171,7 +171,7 @@ public:
                 }
             });
             if (longest <= list_capacity_) return;
-            list_capacity_ = longest + longest / 5 + 8;  // grow with room, then build again
+            list_capacity_ = list_capacity(longest + longest / 5 + 8);  // grow with room, then build again
         }
     }
 

@@ -339,9 +339,22 @@ struct ListEntry {
     }
 };
 
-// A stored neighbour list (Verlet list): column k of particle i at list[k * stride + i], so
-// that a warp reads one column coalesced. Its entries are particle indices, or, with
-// cell_offsets, ListEntry codes.
+// A stored neighbour list (Verlet list) in chunks of list_chunk entries: chunk c of particle
+// i is the list_chunk entries at (c * stride + i) * list_chunk, so that each particle's chunk
+// is one aligned 16-byte piece a GPU lane stores and loads whole, and a warp's chunks are 512
+// contiguous bytes. (With column k at k * stride + i, a lane storing alone wrote 4 bytes of a
+// 32-byte sector: change 17.) Its entries are particle indices, or, with cell_offsets, ListEntry
+// codes. A capacity is a multiple of list_chunk (list_capacity()).
+constexpr std::uint32_t list_chunk = 4;
+SPH_HD std::size_t list_slot(std::uint32_t k, std::uint32_t i, std::uint32_t stride) {
+    return (std::size_t(k / list_chunk) * stride + i) * list_chunk + k % list_chunk;
+}
+// Room for at least `entries` entries a particle: whole chunks.
+inline std::uint32_t list_capacity(std::uint32_t entries) { return (entries + list_chunk - 1) / list_chunk * list_chunk; }
+struct alignas(16) ListChunk {
+    std::uint32_t e[list_chunk];
+};
+
 struct NeighbourList {
     const std::uint32_t* index;
     const std::uint32_t* count;
@@ -357,6 +370,8 @@ struct NeighbourList {
 //                    (load_whole), and keep them to the pair body
 //   index_lookahead: load the list's entry k + L while entry k is summed (0, 1 or 2): a
 //                    GPU's list is read from DRAM, one row of the warp at a time
+//   chunk_loads:     load the list a chunk (list_chunk entries) at a time, the next chunk
+//                    while the current one is summed (index_lookahead is then unused)
 //   entry_offsets:   the entries carry the rebuild's cell offsets (ListEntry) and positions
 //                    come from in.build_frame: no cell is read (open grids only)
 struct ListedLoopDefaults {
@@ -364,6 +379,7 @@ struct ListedLoopDefaults {
     static constexpr bool early_loads = false;
     static constexpr bool whole_loads = false;
     static constexpr int index_lookahead = 0;
+    static constexpr bool chunk_loads = false;
     static constexpr bool entry_offsets = false;
 };
 
@@ -394,14 +410,29 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
             return in.grid.decode(in.cell[k]);
         }
     };
-    const auto entry = [&](std::uint32_t k) { return list.index[std::size_t(k) * list.stride + i]; };
+    const auto entry = [&](std::uint32_t k) { return list.index[list_slot(k, i, list.stride)]; };
+    const auto chunk = [&](std::uint32_t c) {
+        return reinterpret_cast<const ListChunk*>(list.index)[std::size_t(c) * list.stride + i];
+    };
     const int3v ci = Choices::entry_offsets ? int3v{0, 0, 0} : cell_of(i);
     const std::uint32_t n = list.count[i];
-    std::uint32_t next1 = lookahead >= 1 && n > 0 ? entry(0) : 0;  // entries k + 1 and k + 2, loaded ahead
-    std::uint32_t next2 = lookahead >= 2 && n > 1 ? entry(1) : 0;
+    std::uint32_t next1 = !Choices::chunk_loads && lookahead >= 1 && n > 0 ? entry(0) : 0;  // entries k + 1, k + 2
+    std::uint32_t next2 = !Choices::chunk_loads && lookahead >= 2 && n > 1 ? entry(1) : 0;
+    ListChunk here{}, ahead{};  // chunk_loads: the chunk being summed, and the next one
+    if constexpr (Choices::chunk_loads) {
+        if (n > 0) ahead = chunk(0);
+    }
     for (std::uint32_t k = 0; k < n; ++k) {
         std::uint32_t j;
-        if constexpr (lookahead == 0) {
+        if constexpr (Choices::chunk_loads) {
+            const std::uint32_t e = k % list_chunk;
+            if (e == 0) {
+                here = ahead;
+                if (k + list_chunk < n) ahead = chunk(k / list_chunk + 1);
+            }
+            static_assert(list_chunk == 4, "a chunk's entries picked by a chain of selects");
+            j = e == 0 ? here.e[0] : e == 1 ? here.e[1] : e == 2 ? here.e[2] : here.e[3];
+        } else if constexpr (lookahead == 0) {
             j = entry(k);
         } else if constexpr (lookahead == 1) {
             j = next1;
@@ -450,7 +481,8 @@ SPH_HD real4 particle_force_listed(std::uint32_t i, const ForceInputs& in, const
 // the armadillo's particles are walls that never see water), so their entries cost neither
 // memory nor a pass of the listed loop. The fluid comes in visit()'s order, so a wall sums
 // the same pairs in the same order either way.
-// Returns the true count; entries past `capacity` are not written (the caller grows and retries).
+// Returns the true count; entries past `capacity` (a multiple of list_chunk) are not written
+// (the caller grows and retries).
 // CellOffsets writes ListEntry codes (open grids, stencils of at most ListEntry::reach_cells).
 template <class Search, bool CellOffsets = false>
 SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in, real reach2, std::uint32_t* index,
@@ -463,7 +495,7 @@ SPH_HD std::uint32_t build_particle_list(std::uint32_t i, const ForceInputs& in,
         if (j == i) return;
         const real3 rij = separation(pi, in.pos[j], dx, dy, dz, cs);
         if (dot(rij, rij) >= reach2) return;
-        if (n < capacity) index[std::size_t(n) * stride + i] = CellOffsets ? ListEntry::encode(j, dx, dy, dz) : j;
+        if (n < capacity) index[list_slot(n, i, stride)] = CellOffsets ? ListEntry::encode(j, dx, dy, dz) : j;
         ++n;
     };
     const int3v c = in.grid.decode(in.cell[i]);
