@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Changes 16 and 17 (issue 25) against the base build, one lease. Binaries carried in .carry/bin:
-# sphbench (change 17), sphbench-c16 (change 16, affebfd), sphbench-base (6a05ab5). The CUDA
+# sphbench (change 17), sphbench-c18 (change 18, branch experiment/merged-walk-build),
+# sphbench-c16 (change 16, affebfd), sphbench-base (6a05ab5). The CUDA
 # tests of change 17 (lists bitwise as the per-lane build's, variants against the host); ncu of
 # the build kernel at the 201st rebuild and of the listed loop at its 1501st launch from rest
 # (dam break 1.04M, Wendland, half cells, skin 0.1) for each build; the whole event 0-1 s of
@@ -13,10 +14,11 @@ $X sph_tests --gtest_filter='CudaBackend.*:*CudaVariants*' > $O/r/cuda_tests.txt
 grep "particles differ" $O/r/cuda_tests.txt
 CASE="dsph-dambreak --set kernel=wendland --backend cuda --quiet --warmup 0 --verlet --cells-per-support 2 --skin 0.1"
 M=l1tex__t_requests_pipe_lsu_mem_global_op_st.sum,l1tex__t_sectors_pipe_lsu_mem_global_op_st.sum,dram__bytes_read.sum,dram__bytes_write.sum,smsp__inst_executed.sum
-for b in sphbench sphbench-c16 sphbench-base; do
+for b in sphbench sphbench-c18 sphbench-c16 sphbench-base; do
   for k in "build_lists_in_step 200" "forces_listed 1500"; do
     set -- $k
-    [ $b = sphbench-c16 ] && [ $1 = forces_listed ] && continue  # change 16 left the listed loop as it was
+    # changes 16 and 18 left the listed loop as it was
+    [ $b != sphbench ] && [ $b != sphbench-base ] && [ $1 = forces_listed ] && continue
     $X ncu --clock-control none -k regex:$1 --launch-skip $2 -c 1 --metrics $M \
       --section SpeedOfLight --section Occupancy --section WarpStateStats --section LaunchStats --section MemoryWorkloadAnalysis \
       $b simulate $CASE --steps 4000 --out /tmp/ncu-run > $O/r/ncu-$b-$1.txt 2>&1
