@@ -118,6 +118,14 @@ public:
     // What transports read and write: sorted particles
     // [first, first + count) in place, and a receive area that accept_received() appends.
     virtual ParticleSpan particles(std::size_t first, std::size_t count) = 0;
+    // The same particles' state as the listed forces read it of a neighbour: pos, velrho,
+    // velrho_prev and cell, with id null (a ghost refreshed from it keeps its ghost flag).
+    // A backend whose lists read another position array (CUDA's list frame) returns that.
+    virtual ParticleSpan state(std::size_t first, std::size_t count) {
+        ParticleSpan s = particles(first, count);
+        s.id = nullptr;
+        return s;
+    }
     virtual ParticleSpan receive_area(std::size_t count) = 0;
     virtual void accept_received() = 0;  // unsorted until the next sort
     // Appends only the received particles whose cell lies in [begin, end) (the rest, sent

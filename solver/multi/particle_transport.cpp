@@ -7,25 +7,24 @@
 namespace sph {
 namespace {
 
-// Host subdomains share one address space: a transfer is five array copies.
+// Host subdomains share one address space: a transfer is one copy per array it carries.
 class HostCopyTransport final : public ParticleTransport {
 public:
     std::string name() const override { return "host"; }
     void deliver(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<ParticleTransfer>& transfers,
                  const std::vector<ParticleSpan>& areas) override {
-        for (const ParticleTransfer& t : transfers) {
-            const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
-            const ParticleSpan& dst = areas[t.to];
-            std::copy_n(src.pos, t.count, dst.pos + t.offset);
-            std::copy_n(src.velrho, t.count, dst.velrho + t.offset);
-            std::copy_n(src.velrho_prev, t.count, dst.velrho_prev + t.offset);
-            std::copy_n(src.cell, t.count, dst.cell + t.offset);
-            std::copy_n(src.id, t.count, dst.id + t.offset);
-        }
+        for (const ParticleTransfer& t : transfers)
+            for_each_array(areas[t.to], transfer_source(*subs[t.from], t),
+                           [&](auto* dst, const auto* src) { std::copy_n(src, t.count, dst + t.offset); });
     }
 };
 
 }  // namespace
+
+ParticleSpan transfer_source(Subdomain& sub, const ParticleTransfer& transfer) {
+    return transfer.arrays == TransferArrays::state ? sub.state(transfer.first, transfer.count)
+                                                    : sub.particles(transfer.first, transfer.count);
+}
 
 TransportKind parse_transport(const std::string& text) {
     for (TransportKind k : {TransportKind::automatic, TransportKind::host, TransportKind::peer, TransportKind::staged,

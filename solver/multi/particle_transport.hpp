@@ -15,12 +15,32 @@
 
 namespace sph {
 
+// Which arrays a transfer carries: whole particles (an exchange: pos, velrho, velrho_prev,
+// cell, id), or the state a neighbour's listed forces read of a ghost (a refresh between
+// list rebuilds: all but id, which keeps the receiver's ghost flag; Subdomain::state).
+enum class TransferArrays { whole, state };
+
 // One transfer of an exchange: `count` particles of subdomain `from`, starting at its sorted
 // particle `first`, land in the receive area of `to` at `offset`.
 struct ParticleTransfer {
     int from = 0, to = 0;
     std::size_t first = 0, count = 0, offset = 0;
+    TransferArrays arrays = TransferArrays::whole;
 };
+
+// The arrays of `transfer.arrays` of particles [first, first + count) of `sub`.
+ParticleSpan transfer_source(Subdomain& sub, const ParticleTransfer& transfer);
+
+// Calls f(dst_array, src_array) for each array the two spans both carry (a null array is not
+// carried), in the order pos, velrho, velrho_prev, cell, id.
+template <class F>
+void for_each_array(const ParticleSpan& dst, const ParticleSpan& src, F&& f) {
+    if (dst.pos && src.pos) f(dst.pos, src.pos);
+    if (dst.velrho && src.velrho) f(dst.velrho, src.velrho);
+    if (dst.velrho_prev && src.velrho_prev) f(dst.velrho_prev, src.velrho_prev);
+    if (dst.cell && src.cell) f(dst.cell, src.cell);
+    if (dst.id && src.id) f(dst.id, src.id);
+}
 
 class ParticleTransport {
 public:

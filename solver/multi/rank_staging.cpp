@@ -56,8 +56,9 @@ RankTransportChoice choose_rank_transport(BackendKind backend, int ranks, bool g
 }
 
 ParticleSpan sub_span(const ParticleSpan& s, std::size_t first, std::size_t count) {
-    return {s.pos + first, s.velrho + first, s.velrho_prev + first, s.cell + first, s.id + first, count, s.device,
-            s.stream};
+    // A null array (one a transfer does not carry) stays null.
+    auto at = [first](auto* p) { return p ? p + first : p; };
+    return {at(s.pos), at(s.velrho), at(s.velrho_prev), at(s.cell), at(s.id), count, s.device, s.stream};
 }
 
 std::unique_ptr<RankStaging> make_rank_staging(RankTransport kind, const std::vector<std::unique_ptr<Subdomain>>& subs) {

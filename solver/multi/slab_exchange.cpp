@@ -8,11 +8,12 @@
 namespace sph {
 namespace {
 
-// A transfer's five arrays, one after another, in host memory (pos, velrho, velrho_prev,
-// cell, id): what a message between ranks carries. The spans are host memory (a host
-// subdomain's own, or what the RankStaging staged).
+// A transfer's arrays, one after another, in host memory (pos, velrho, velrho_prev, cell, id;
+// a null one is not carried): what a message between ranks carries. The spans are host
+// memory (a host subdomain's own, or what the RankStaging staged).
 void pack(Bytes& out, const ParticleSpan& src, std::size_t count) {
     auto put = [&](const auto* p) {
+        if (!p) return;
         const std::size_t at = out.size(), bytes = count * sizeof(*p);
         out.resize(at + bytes);
         std::memcpy(out.data() + at, p, bytes);
@@ -26,6 +27,7 @@ void pack(Bytes& out, const ParticleSpan& src, std::size_t count) {
 
 std::size_t unpack(const Bytes& in, std::size_t at, const ParticleSpan& dst, std::size_t count) {
     auto get = [&](auto* p) {
+        if (!p) return;
         const std::size_t bytes = count * sizeof(*p);
         if (at + bytes > in.size()) throw RunError("an MPI particle message is shorter than its transfer sizes");
         std::memcpy(p, in.data() + at, bytes);
