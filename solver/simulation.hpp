@@ -166,6 +166,7 @@ private:
     void make_subdomains(const ParticleArrays& all);
     std::vector<int> subdomain_gpus(RankGroup& ranks, const SubdomainPlacement& placement) const;
     void exchange_particles(long step);
+    void refresh_ghosts(long step);
     void settle_exchange(long step);
     void advance_overlapped(const TimeStep& rule, const StepStats& stats, long step);
     StepStats gather_stats(const std::vector<StepStats>& local) const;

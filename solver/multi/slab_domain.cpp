@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.hpp"
+
 namespace sph {
 namespace {
 
@@ -144,6 +146,7 @@ ExchangeCounters SlabDomain::settled() {
     c.ghosts_sent = c.ghosts_sent >= c.particles_migrated ? c.ghosts_sent - c.particles_migrated : 0;
     exchanged_for_ = slabs_;
     in_flight_ = false;
+    refresh_planned_ = false;
     return c;
 }
 
@@ -151,7 +154,20 @@ ExchangeCounters SlabDomain::exchange(std::vector<std::unique_ptr<Subdomain>>& s
     if (!split()) return {};
     const ExchangeCounters c = exchange_->exchange(subs, slabs_, ranks_, placement_);
     exchanged_for_ = slabs_;
+    refresh_planned_ = false;
     return c;
+}
+
+void SlabDomain::plan_refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
+    if (!split()) return;
+    refresh_plan_ = exchange_->plan_refresh(subs, exchanged_for_, ranks_, placement_);
+    refresh_planned_ = true;
+}
+
+ExchangeCounters SlabDomain::refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
+    if (!split()) return {};
+    if (!refresh_planned_) throw RunError("a ghost refresh needs a plan made right after the last exchange");
+    return exchange_->refresh(subs, refresh_plan_, ranks_, placement_);
 }
 
 }  // namespace sph

@@ -52,6 +52,14 @@ public:
     int rebalance(std::vector<std::unique_ptr<Subdomain>>& subs, long step, const std::vector<double>& update_times);
     // Migration and ghost refresh in one exchange, for the decomposition as it is now.
     ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs);
+    // Verlet lists (not overlapped, in one process so far): right after exchange(), where
+    // each ghost block sits on its holder and on its owner (SlabExchange::plan_refresh); then
+    // each step until the next exchange, refresh() copies the owners' state into those
+    // ghosts, in place: no drop, no balance, no sort, so the lists built on the exchanged
+    // state stay valid.
+    void plan_refresh(std::vector<std::unique_ptr<Subdomain>>& subs);
+    ExchangeCounters refresh(std::vector<std::unique_ptr<Subdomain>>& subs);
+    const std::vector<GhostRefresh>& refresh_plan() const { return refresh_plan_; }
 
     // Paper section 5.3, when overlapping: the step's one exchange is issued during the
     // update and settled at the start of the next step.
@@ -125,6 +133,8 @@ private:
     bool in_flight_ = false;
     int reach_ = 1;
     std::vector<std::vector<std::uint32_t>> starts_;  // read_slices: per local subdomain
+    std::vector<GhostRefresh> refresh_plan_;           // of the last exchange, when planned
+    bool refresh_planned_ = false;
     ExchangeCounters sent_;                            // of the exchange in flight
     unsigned long long migrated_ = 0;                  // settled so far on this rank
 };

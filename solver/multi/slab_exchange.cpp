@@ -100,6 +100,68 @@ ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>&
     return c;
 }
 
+std::vector<GhostRefresh> SlabExchange::plan_refresh(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                                     const SlabDecomposition& slabs, RankGroup& ranks,
+                                                     const SubdomainPlacement& placement) {
+    const int n = slabs.devices();
+    const int slices = slabs.slices();
+    const int first_local = placement.first(ranks.rank()), local = int(subs.size());
+    auto ext_begin = [&](int k) { return std::max(0, slabs.begin(k) - ghost_slices_); };
+    auto ext_end = [&](int k) { return std::min(slices, slabs.end(k) + ghost_slices_); };
+    // Per subdomain, cell_start at the edges of: its left ghosts [ghosts_begin, owned_begin),
+    // its right ghosts [owned_end, ghosts_end), what its left neighbour holds of it as ghosts
+    // [owned_begin, to_left_end) and its right neighbour [to_right_begin, owned_end) (empty at
+    // the ends of the domain).
+    enum { ghosts_begin, owned_begin, owned_end, ghosts_end, to_left_end, to_right_begin, edges };
+    std::vector<std::uint64_t> mine;
+    for (int d = 0; d < local; ++d) {
+        const int g = first_local + d;
+        const std::vector<std::uint32_t> cells = {
+            first_cell(ext_begin(g)), first_cell(slabs.begin(g)), first_cell(slabs.end(g)), first_cell(ext_end(g)),
+            first_cell(g > 0 ? ext_end(g - 1) : slabs.begin(g)),
+            first_cell(g + 1 < n ? ext_begin(g + 1) : slabs.end(g))};
+        for (std::uint32_t at : subs[d]->cell_starts(cells)) mine.push_back(at);
+    }
+    const std::vector<std::uint64_t> at = allgather_values(ranks, mine);
+    if (int(at.size()) != n * edges) throw RunError("the ranks disagree on the number of subdomains");
+    auto start = [&](int g, int edge) { return at[std::size_t(g) * edges + edge]; };
+    std::vector<GhostRefresh> plan;
+    auto add = [&](int from, std::uint64_t first, std::uint64_t end, int to, std::uint64_t offset,
+                   std::uint64_t ghosts_end) {
+        if (end - first != ghosts_end - offset)
+            throw RunError("subdomain " + std::to_string(to) + " holds " + std::to_string(ghosts_end - offset) +
+                           " ghosts of subdomain " + std::to_string(from) + ", which owns " +
+                           std::to_string(end - first) + " particles there: the ghost blocks cannot be refreshed");
+        if (end > first) plan.push_back({from, to, first, end - first, offset});
+    };
+    for (int k = 0; k < n; ++k) {
+        if (k > 0) add(k - 1, start(k - 1, to_right_begin), start(k - 1, owned_end), k, start(k, ghosts_begin),
+                       start(k, owned_begin));
+        if (k + 1 < n) add(k + 1, start(k + 1, owned_begin), start(k + 1, to_left_end), k, start(k, owned_end),
+                           start(k, ghosts_end));
+    }
+    return plan;
+}
+
+ExchangeCounters SlabExchange::refresh(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                       const std::vector<GhostRefresh>& plan, RankGroup& ranks,
+                                       const SubdomainPlacement& placement) {
+    if (ranks.size() > 1) throw RunError("a refresh of ghosts between MPI ranks is not built yet");
+    const int first_local = placement.first(ranks.rank());
+    ExchangeCounters c;
+    std::vector<ParticleTransfer> transfers;
+    for (const GhostRefresh& r : plan) {
+        transfers.push_back({r.from - first_local, r.to - first_local, r.first, r.count, r.offset, TransferArrays::state});
+        c.ghosts_sent += r.count;
+        c.bytes += r.count * refreshed_bytes_per_particle;
+    }
+    // The ghosts are written in place: each receiver's whole state is its area.
+    std::vector<ParticleSpan> areas;
+    for (auto& sub : subs) areas.push_back(sub->state(0, sub->size()));
+    transport_->deliver(subs, transfers, areas);
+    return c;
+}
+
 ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& subs,
                                      const std::vector<TransferSize>& mine, RankGroup& ranks,
                                      const SubdomainPlacement& placement, bool overlapped) {

@@ -53,6 +53,18 @@ struct BoundaryArea {
 BoundaryArea boundary_area(const SlabDecomposition& now, const SlabDecomposition& next, int g, int ghost_slices,
                            int reach);
 
+// Verlet lists between rebuilds (no sort, no migration): where the ghosts of one subdomain
+// sit on it and on their owner. After a rebuild exchange every holder of a cell holds that
+// cell's particles in the same (cell, id) order, and the slabs are at least ghost_slices
+// wide, so each of a subdomain's two ghost blocks (the ghost slices of its left neighbour and
+// of its right one) is one index range that holds, slot for slot, the particles of one index
+// range of the neighbour that owns them. Without a sort both keep their particles until the
+// next rebuild, so a refresh is one contiguous copy per such pair.
+struct GhostRefresh {
+    int from = 0, to = 0;                        // subdomains: the owner, and the holder of the ghosts
+    std::uint64_t first = 0, count = 0, offset = 0;  // the owner's first slot; the ghosts' first slot on `to`
+};
+
 class SlabExchange {
 public:
     // `staging` may be null in a run of one process (nothing goes to another rank).
@@ -66,6 +78,19 @@ public:
     // left the domain, sorted, with its owned cells set. The counters cover every rank.
     ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs,
                               RankGroup& ranks, const SubdomainPlacement& placement);
+
+    // Right after exchange() (the lists are built on that state): each pair's ghost block,
+    // for every subdomain (every rank holds the whole plan). The ghosts' count must equal the
+    // owner's, which every rank checks (RunError: a bug, not bad input).
+    std::vector<GhostRefresh> plan_refresh(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                           const SlabDecomposition& slabs, RankGroup& ranks,
+                                           const SubdomainPlacement& placement);
+    // Copies each owner's current state (Subdomain::state: not the ids, which keep the
+    // ghost flags) into the ghost slots of `plan`, made by plan_refresh after the last
+    // rebuild exchange, with no sort since. In one process only so far (RunError otherwise).
+    // Counts the ghosts refreshed and their bytes (refreshed_bytes_per_particle).
+    ExchangeCounters refresh(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<GhostRefresh>& plan,
+                             RankGroup& ranks, const SubdomainPlacement& placement);
 
     // The exchange of paper section 5.3, issued after the boundary areas are updated (each
     // marked ready with the transport) and carried under the inner update. `starts[d]` holds
@@ -114,5 +139,7 @@ private:
 
 // Bytes one particle occupies in a transfer (position, velocity and density, cell, id).
 constexpr std::size_t exchanged_bytes_per_particle = 2 * sizeof(real4) + 2 * sizeof(std::uint32_t);
+// Bytes one ghost's refresh carries (position, velocity and density, the previous step's, cell).
+constexpr std::size_t refreshed_bytes_per_particle = 3 * sizeof(real4) + sizeof(std::uint32_t);
 
 }  // namespace sph
