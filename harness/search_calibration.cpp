@@ -52,8 +52,8 @@ Calibration calibrate_search(const Scene& scene, const SolverOptions& base, int 
             for (int k = 0; k < (search.verlet ? verlet_steps : steps); ++k) ms.push_back(sim.step().step_ms());
         } catch (const std::runtime_error& e) {
             // A cell search refused is the run's own error; the lists may be refused where the
-            // cell search is not (several subdomains, shifting, a short periodic box, a grid
-            // too large for the GPU's cell coordinates).
+            // cell search is not (several subdomains overlapped, on GPUs or MPI ranks, shifting,
+            // a short periodic box, a grid too large for the GPU's cell coordinates).
             if (!search.verlet || !(dynamic_cast<const InputError*>(&e) || dynamic_cast<const RunError*>(&e))) throw;
             c.verlet_skipped = e.what();
             continue;

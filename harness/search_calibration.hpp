@@ -18,8 +18,8 @@ struct CalibrationTrial {
 struct Calibration {
     SearchOptions best;
     std::vector<CalibrationTrial> trials;
-    // Why the Verlet lists were not timed (they run on one subdomain only, and not with
-    // shifting or short periodic boxes); empty when they were.
+    // Why the Verlet lists were not timed (on several subdomains they run on the host without
+    // overlap only so far, and not with shifting or short periodic boxes); empty when they were.
     std::string verlet_skipped;
 };
 

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <random>
 #include <set>
+#include <stdexcept>
 
 #include "backend/key_order.hpp"
 
@@ -358,6 +360,87 @@ TEST(OverlapSwitch, DelayedRepartitionIsNotMadeTwice) {
     EXPECT_GT(domain.decide_balance(3, times, {}), 0) << "unscaled, the stale times should have asked again";
 }
 
+// The fact the lists on slabs rest on: after an exchange, each ghost block (the cells of one
+// owner within ghost_slices of another subdomain's slab) is one index range on its holder
+// and one on its owner, holding the same particles slot for slot. After the owners update
+// (no sort), a refresh makes each ghost block's state (pos, velrho, velrho_prev, cell) equal
+// its owner's bitwise, and every ghost keeps its ghost flag.
+TEST(SlabRefresh, GhostBlocksMatchTheirOwnersSlotForSlot) {
+    const Scene s = test::small_dambreak("0.04");
+    Simulation probe(s, SolverOptions{});
+    const GridView grid = probe.grid().view;
+    const ParticleArrays all = make_particle_arrays(s, probe.grid());
+    auto alone = make_single_process_group();
+    SlabDomain domain(grid, 3, 1, "none", all, *alone, false);
+    const SubdomainConfig cfg{s.params, grid, s.kernel, true, SearchOptions{}};
+    std::vector<std::unique_ptr<Subdomain>> subs;
+    for (const ParticleArrays& p : domain.local_parts(all)) {
+        subs.push_back(make_host_subdomain(cfg, all.size()));
+        subs.back()->upload(p);
+    }
+    domain.connect(subs, TransportKind::automatic);
+    for (auto& d : subs) {
+        d->sort_by_cell();
+        d->advance(euler_step(0));
+    }
+    domain.exchange(subs);
+    domain.plan_refresh(subs);
+    EXPECT_EQ(domain.refresh_plan().size(), 4u) << "one block per ordered pair of neighbours";
+
+    // Each ghost block's index range on its holder and on its owner, from the cells alone.
+    const SlabDecomposition& slabs = domain.decomposition();
+    const std::uint32_t slice_cells = std::uint32_t(grid.ny) * std::uint32_t(grid.nz);
+    struct Block {
+        int owner, holder;
+        std::uint32_t owner_first, holder_first, count;
+    };
+    std::vector<Block> blocks;
+    for (int k = 0; k < 3; ++k)
+        for (int g : {k - 1, k + 1}) {
+            if (g < 0 || g >= 3) continue;
+            const int lo = std::max(slabs.begin(g), slabs.begin(k) - 1), hi = std::min(slabs.end(g), slabs.end(k) + 1);
+            ASSERT_LT(lo, hi);
+            const std::vector<std::uint32_t> cells = {std::uint32_t(lo) * slice_cells, std::uint32_t(hi) * slice_cells};
+            const std::vector<std::uint32_t> on_owner = subs[g]->cell_starts(cells), on_holder = subs[k]->cell_starts(cells);
+            ASSERT_EQ(on_owner[1] - on_owner[0], on_holder[1] - on_holder[0]) << "block of " << g << " on " << k;
+            ASSERT_GT(on_owner[1], on_owner[0]);
+            blocks.push_back({g, k, on_owner[0], on_holder[0], on_owner[1] - on_owner[0]});
+        }
+    auto compare = [&](const char* when, bool expect_equal_state) {
+        std::vector<ParticleArrays> a;
+        for (auto& d : subs) a.push_back(d->download());
+        std::size_t differ = 0;
+        for (const Block& b : blocks) {
+            const ParticleArrays &o = a[b.owner], &h = a[b.holder];
+            for (std::uint32_t i = 0; i < b.count; ++i) {
+                const std::size_t io = b.owner_first + i, ih = b.holder_first + i;
+                ASSERT_FALSE(is_ghost_id(o.id[io])) << when;
+                ASSERT_TRUE(is_ghost_id(h.id[ih])) << when << ": a ghost lost its flag";
+                ASSERT_EQ(h.id[ih], o.id[io] | ghost_id_flag) << when << ": not the same particle in the same slot";
+                differ += std::memcmp(&o.pos[io], &h.pos[ih], sizeof(real4)) != 0 ||
+                          std::memcmp(&o.velrho[io], &h.velrho[ih], sizeof(real4)) != 0 ||
+                          std::memcmp(&o.velrho_prev[io], &h.velrho_prev[ih], sizeof(real4)) != 0 ||
+                          o.cell[io] != h.cell[ih];
+            }
+        }
+        if (expect_equal_state) EXPECT_EQ(differ, 0u) << when << ": ghosts whose state differs from their owner's";
+        else EXPECT_GT(differ, 0u) << when << ": the update changed no ghost's owner (nothing to refresh)";
+    };
+    compare("after the exchange", true);
+    // The owners update (a step of gravity and pressure); the ghosts are now stale.
+    for (auto& d : subs) {
+        d->compute_forces();
+        d->advance(euler_step(real(1e-3)));
+    }
+    compare("after the update", false);
+    const ExchangeCounters c = domain.refresh(subs);
+    compare("after the refresh", true);
+    std::size_t ghosts = 0;
+    for (const Block& b : blocks) ghosts += b.count;
+    EXPECT_EQ(c.ghosts_sent, ghosts);
+    EXPECT_EQ(c.bytes, ghosts * refreshed_bytes_per_particle);
+}
+
 // The boundary slices of a subdomain: those a particle moving at most `reach` slices may
 // leave for another subdomain's extended slab, after the balancer's move.
 TEST(OverlapSwitch, BoundarySlicesCoverTheGhostsAndThePotentialMigrants) {
@@ -432,6 +515,47 @@ TEST(MultiDeviceErrors, ExchangeCountersAddUp) {
                       (r.exchange.ghosts_sent + r.exchange.particles_migrated) * exchanged_bytes_per_particle);
         }
     }
+}
+
+// Lists on several subdomains are built for the host backend in one process without overlap;
+// each of the other three is refused with a sentence naming it, before anything runs.
+class TwoRanksNeverAsked final : public RankGroup {
+public:
+    int rank() const override { return 0; }
+    int size() const override { return 2; }
+    std::string description() const override { return "MPI, 2 ranks (a test's stand-in)"; }
+    std::vector<Bytes> allgather(const Bytes&) override { throw std::logic_error("no collective before the refusal"); }
+    std::vector<Bytes> exchange(const std::vector<Bytes>&) override {
+        throw std::logic_error("no collective before the refusal");
+    }
+    [[noreturn]] void abort(int) override { throw std::logic_error("abort"); }
+};
+
+TEST(MultiDeviceErrors, ListsOnSeveralSubdomainsAreRefusedWhereNotBuiltYet) {
+    auto refusal = [](SolverOptions o) {
+        o.subdomains = 2;
+        o.search.verlet = true;
+        try {
+            Simulation sim(test::small_dambreak("0.04"), o);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("not refused");
+    };
+    SolverOptions overlapped;  // overlap is on by default
+    EXPECT_NE(refusal(overlapped).find("--no-overlap"), std::string::npos) << refusal(overlapped);
+    SolverOptions cuda;
+    cuda.overlap = false;
+    cuda.backend = BackendKind::cuda;
+    EXPECT_NE(refusal(cuda).find("host backend only"), std::string::npos) << refusal(cuda);
+    TwoRanksNeverAsked two_ranks;
+    SolverOptions mpi;
+    mpi.overlap = false;
+    mpi.ranks = &two_ranks;
+    EXPECT_NE(refusal(mpi).find("one process only"), std::string::npos) << refusal(mpi);
+    SolverOptions host;
+    host.overlap = false;
+    EXPECT_EQ(refusal(host), "not refused");
 }
 
 TEST(MultiDeviceErrors, UnknownBalancerIsRefusedByName) {
