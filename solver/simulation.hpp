@@ -4,7 +4,9 @@
 // blow-up check. With several subdomains and SolverOptions::overlap (paper section 5.3):
 // (settle the last step's exchange: drop ghosts, sort), forces, (balance, on the host under
 // the forces), diagnostics, advance the boundary slices, advance the inner slices while the
-// boundary slices travel.
+// boundary slices travel. With Verlet lists (SearchOptions::verlet; several subdomains: on
+// the host without overlap so far) only a rebuild step drops, balances, sorts and exchanges,
+// and builds the lists after the exchange; the steps between refresh the ghosts in place.
 // One subdomain is a plain single-device run; N subdomains split space into X slabs
 // (paper section 5), on N GPUs, on one GPU, or on the host, in one process or spread over the
 // ranks of an MPI job (multi/rank_group.hpp). The slabs' per-step life is the SlabDomain's;
