@@ -30,6 +30,16 @@ struct MultiCase {
     bool merge;
 };
 
+// The several-subdomain run b against the one-subdomain run a: every position bitwise, and the time.
+void expect_same_positions_and_time(Simulation& a, Simulation& b) {
+    const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < pa.size(); ++i)
+        if (pa[i] != pb[i]) ++differ;
+    EXPECT_EQ(differ, 0u) << "particles whose position differs from the one-subdomain run";
+    EXPECT_DOUBLE_EQ(a.time(), b.time());
+}
+
 class MultiDevice : public ::testing::TestWithParam<MultiCase> {};
 
 // Ghost slices hold exactly the particles of those cells, sorted by id like everything else,
@@ -50,12 +60,7 @@ TEST_P(MultiDevice, MatchesOneSubdomainBitwise) {
         moved += b.step().slices_moved;
         if (k % 10 == 0) expect_each_particle_once(b.snapshot(), s.size(), k);
     }
-    const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < pa.size(); ++i)
-        if (pa[i] != pb[i]) ++differ;
-    EXPECT_EQ(differ, 0u) << "particles whose position differs from the one-subdomain run";
-    EXPECT_DOUBLE_EQ(a.time(), b.time());
+    expect_same_positions_and_time(a, b);
     // The balancers decide from measured host times. The threshold balancer moves only when a
     // move is predicted to narrow the gap, and on a loaded CI machine its 60 steps can pass without
     // one (seen once in a full ctest run). Its decisions are tested on synthetic costs
@@ -103,12 +108,7 @@ unsigned long long expect_lists_match_one_subdomain(const MultiCase& mc, double 
         migrated += r.exchange.particles_migrated;
         if (k % 10 == 0) expect_each_particle_once(b.snapshot(), s.size(), k);
     }
-    const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < pa.size(); ++i)
-        if (pa[i] != pb[i]) ++differ;
-    EXPECT_EQ(differ, 0u) << "particles whose position differs from the one-subdomain run";
-    EXPECT_DOUBLE_EQ(a.time(), b.time());
+    expect_same_positions_and_time(a, b);
     EXPECT_EQ(a.neighbour_list_builds(), b.neighbour_list_builds());
     EXPECT_GE(b.neighbour_list_builds(), 4) << "too few rebuilds to test the refreshes between them";
     // A balancer moves only at rebuilds: simple at every one, every:K at those on a multiple
