@@ -131,7 +131,7 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
                          std::to_string(n) + " subdomains");
     RankGroup& ranks = options_.ranks ? *options_.ranks : process_ranks();
     // Lists on several subdomains refresh their ghosts in place between rebuilds; that is
-    // built for the host backend in one process, without overlap, so far.
+    // built for the host backend without overlap (in one process or across MPI ranks) so far.
     if (n > 1 && options_.search.verlet) {
         if (options_.backend != BackendKind::host)
             throw InputError("Verlet lists on several subdomains run on the host backend only so far; drop --verlet or "
@@ -139,9 +139,6 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
         if (options_.overlap)
             throw InputError("Verlet lists on several subdomains run without the overlapped exchange only so far; "
                              "drop --verlet or add --no-overlap");
-        if (ranks.size() > 1)
-            throw InputError("Verlet lists on several subdomains run in one process only so far; drop --verlet or run "
-                             "without MPI ranks");
     }
     // Refused here, before anything is allocated: GPU-direct that cannot be had.
     const RankTransportChoice rank_transport = choose_rank_transport(

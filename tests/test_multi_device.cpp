@@ -548,11 +548,6 @@ TEST(MultiDeviceErrors, ListsOnSeveralSubdomainsAreRefusedWhereNotBuiltYet) {
     cuda.overlap = false;
     cuda.backend = BackendKind::cuda;
     EXPECT_NE(refusal(cuda).find("host backend only"), std::string::npos) << refusal(cuda);
-    TwoRanksNeverAsked two_ranks;
-    SolverOptions mpi;
-    mpi.overlap = false;
-    mpi.ranks = &two_ranks;
-    EXPECT_NE(refusal(mpi).find("one process only"), std::string::npos) << refusal(mpi);
     SolverOptions host;
     host.overlap = false;
     EXPECT_EQ(refusal(host), "not refused");

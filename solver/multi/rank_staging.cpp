@@ -11,7 +11,9 @@ public:
     std::vector<ParticleSpan> stage_out(std::vector<std::unique_ptr<Subdomain>>& subs,
                                         const std::vector<StagedPiece>& pieces) override {
         std::vector<ParticleSpan> out;
-        for (const StagedPiece& p : pieces) out.push_back(subs[p.sub]->particles(p.first, p.count));
+        for (const StagedPiece& p : pieces)
+            out.push_back(p.arrays == TransferArrays::state ? subs[p.sub]->state(p.first, p.count)
+                                                            : subs[p.sub]->particles(p.first, p.count));
         return out;
     }
     std::vector<ParticleSpan> stage_in(const std::vector<StagedPiece>& pieces,

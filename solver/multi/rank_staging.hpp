@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "backend/subdomain.hpp"
+#include "multi/particle_transport.hpp"
 
 namespace sph {
 
@@ -30,10 +31,12 @@ RankTransportChoice choose_rank_transport(BackendKind backend, int ranks, bool g
                                           const std::string& mpi_library);
 
 // `count` particles of local subdomain `sub` from `first`: of its sorted particles (going
-// out), or of its receive area (coming in).
+// out), or of its receive area (coming in); `arrays` says which of their arrays travel (a
+// refresh of ghosts between list rebuilds carries the state, not the ids).
 struct StagedPiece {
     int sub = 0;
     std::size_t first = 0, count = 0;
+    TransferArrays arrays = TransferArrays::whole;
 };
 
 // `count` particles of `span` from `first` (the same memory).

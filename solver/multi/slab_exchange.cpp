@@ -146,22 +146,36 @@ std::vector<GhostRefresh> SlabExchange::plan_refresh(std::vector<std::unique_ptr
 ExchangeCounters SlabExchange::refresh(std::vector<std::unique_ptr<Subdomain>>& subs,
                                        const std::vector<GhostRefresh>& plan, RankGroup& ranks,
                                        const SubdomainPlacement& placement) {
-    if (ranks.size() > 1) throw RunError("a refresh of ghosts between MPI ranks is not built yet");
-    // The GPU transports carry whole particles only so far (a refresh must not carry ids).
+    // The GPU transports and staging carry whole particles only so far (a refresh must not
+    // carry ids).
     for (auto& sub : subs)
         if (sub->backend() != BackendKind::host) throw RunError("a refresh of ghosts on GPU subdomains is not built yet");
-    const int first_local = placement.first(ranks.rank());
+    const int first_local = placement.first(ranks.rank()), local = int(subs.size());
+    auto is_local = [&](int g) { return g >= first_local && g < first_local + local; };
     ExchangeCounters c;
-    std::vector<ParticleTransfer> transfers;
+    std::vector<ParticleTransfer> transfers;  // between this rank's subdomains, in local indices
+    // Between ranks, in the plan's order on both sides (every rank holds the whole plan).
+    std::vector<StagedPiece> outgoing, incoming;
+    std::vector<int> outgoing_rank, incoming_rank;
     for (const GhostRefresh& r : plan) {
-        transfers.push_back({r.from - first_local, r.to - first_local, r.first, r.count, r.offset, TransferArrays::state});
         c.ghosts_sent += r.count;
         c.bytes += r.count * refreshed_bytes_per_particle;
+        if (is_local(r.from) && is_local(r.to)) {
+            transfers.push_back(
+                {r.from - first_local, r.to - first_local, r.first, r.count, r.offset, TransferArrays::state});
+        } else if (is_local(r.from)) {
+            outgoing.push_back({r.from - first_local, r.first, r.count, TransferArrays::state});
+            outgoing_rank.push_back(placement.rank_of(r.to));
+        } else if (is_local(r.to)) {
+            incoming.push_back({r.to - first_local, r.offset, r.count, TransferArrays::state});
+            incoming_rank.push_back(placement.rank_of(r.from));
+        }
     }
     // The ghosts are written in place: each receiver's whole state is its area.
     std::vector<ParticleSpan> areas;
     for (auto& sub : subs) areas.push_back(sub->state(0, sub->size()));
     transport_->deliver(subs, transfers, areas);
+    if (ranks.size() > 1) send_between_ranks(subs, outgoing, outgoing_rank, incoming, incoming_rank, areas, ranks);
     return c;
 }
 
@@ -206,12 +220,7 @@ ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& su
         }
     overlapped ? transport_->begin_delivery(subs, transfers, areas) : transport_->deliver(subs, transfers, areas);
     if (ranks.size() == 1) return c;
-    if (!staging_) throw RunError("an exchange between MPI ranks has no staging for its particles");
-    std::vector<Bytes> sends(ranks.size());
-    const std::vector<ParticleSpan> out = staging_->stage_out(subs, outgoing);
-    for (std::size_t i = 0; i < outgoing.size(); ++i) pack(sends[outgoing_rank[i]], out[i], outgoing[i].count);
-    const std::vector<Bytes> received = ranks.exchange(sends);
-    // Each sender packed its transfers by source subdomain, then destination: read them so.
+    // What each sender packs, it packs by source subdomain, then destination: read it so.
     std::vector<StagedPiece> incoming_pieces;
     std::vector<int> incoming_rank;
     for (int r = 0; r < ranks.size(); ++r) {
@@ -224,16 +233,29 @@ ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& su
                 incoming_rank.push_back(r);
             }
     }
-    const std::vector<ParticleSpan> in = staging_->stage_in(incoming_pieces, areas);
+    send_between_ranks(subs, outgoing, outgoing_rank, incoming_pieces, incoming_rank, areas, ranks);
+    return c;
+}
+
+void SlabExchange::send_between_ranks(std::vector<std::unique_ptr<Subdomain>>& subs,
+                                      const std::vector<StagedPiece>& outgoing, const std::vector<int>& outgoing_rank,
+                                      const std::vector<StagedPiece>& incoming, const std::vector<int>& incoming_rank,
+                                      const std::vector<ParticleSpan>& areas, RankGroup& ranks) {
+    if (!staging_) throw RunError("an exchange between MPI ranks has no staging for its particles");
+    const int me = ranks.rank();
+    std::vector<Bytes> sends(ranks.size());
+    const std::vector<ParticleSpan> out = staging_->stage_out(subs, outgoing);
+    for (std::size_t i = 0; i < outgoing.size(); ++i) pack(sends[outgoing_rank[i]], out[i], outgoing[i].count);
+    const std::vector<Bytes> received = ranks.exchange(sends);
+    const std::vector<ParticleSpan> in = staging_->stage_in(incoming, areas);
     std::vector<std::size_t> at(ranks.size(), 0);
-    for (std::size_t i = 0; i < incoming_pieces.size(); ++i) {
+    for (std::size_t i = 0; i < incoming.size(); ++i) {
         const int r = incoming_rank[i];
-        at[r] = unpack(received[r], at[r], in[i], incoming_pieces[i].count);
+        at[r] = unpack(received[r], at[r], in[i], incoming[i].count);
     }
     for (int r = 0; r < ranks.size(); ++r)
         if (r != me && at[r] != received[r].size()) throw RunError("an MPI particle message is longer than its transfer sizes");
-    staging_->deliver_in(subs, incoming_pieces, areas);
-    return c;
+    staging_->deliver_in(subs, incoming, areas);
 }
 
 ExchangeCounters SlabExchange::begin_boundary_exchange(std::vector<std::unique_ptr<Subdomain>>& subs,

@@ -87,7 +87,8 @@ public:
                                            const SubdomainPlacement& placement);
     // Copies each owner's current state (Subdomain::state: not the ids, which keep the
     // ghost flags) into the ghost slots of `plan`, made by plan_refresh after the last
-    // rebuild exchange, with no sort since. In one process only so far (RunError otherwise).
+    // rebuild exchange, with no sort since: within a rank by the transport, between ranks by
+    // MPI messages of the state alone. Host subdomains only so far (RunError otherwise).
     // Counts the ghosts refreshed and their bytes (refreshed_bytes_per_particle).
     ExchangeCounters refresh(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<GhostRefresh>& plan,
                              RankGroup& ranks, const SubdomainPlacement& placement);
@@ -130,6 +131,13 @@ private:
     // and each receiver's later work ordered after them).
     ExchangeCounters carry(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<TransferSize>& mine,
                            RankGroup& ranks, const SubdomainPlacement& placement, bool overlapped);
+    // The pieces that cross ranks: staged out and packed in order per destination rank, one
+    // message exchange, unpacked in order per source rank into the staged receive areas, then
+    // delivered in. Every rank calls it (the exchange is collective).
+    void send_between_ranks(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<StagedPiece>& outgoing,
+                            const std::vector<int>& outgoing_rank, const std::vector<StagedPiece>& incoming,
+                            const std::vector<int>& incoming_rank, const std::vector<ParticleSpan>& areas,
+                            RankGroup& ranks);
 
     GridView grid_;
     int ghost_slices_;

@@ -6,7 +6,10 @@
 // Exit 0 when all agree; 1, with the first difference, otherwise (every rank sees the same
 // gathered snapshots, so every rank exits the same way). Words after the three arguments:
 // no-overlap (the MPI run without paper 5.3's order), cuda (both runs on the CUDA backend;
-// tools/mpi-cuda-check.sh runs it on a GPU machine), share-gpus (ranks may share a GPU).
+// tools/mpi-cuda-check.sh runs it on a GPU machine), share-gpus (ranks may share a GPU),
+// verlet (both runs on Verlet lists rebuilt every 5 steps, whose ghosts are refreshed in place
+// between rebuilds: the lists must also have been rebuilt during the run, so that a refresh across a rebuild,
+// with its repartition, is compared).
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -43,16 +46,17 @@ bool same_or_both_nan(const State& a, const State& b) {
 
 int main(int argc, char** argv) {
     auto mpi = sph::make_mpi_rank_group(argc, argv);
-    bool overlap = true, cuda = false, share = false, usage = argc < 4;
+    bool overlap = true, cuda = false, share = false, verlet = false, usage = argc < 4;
     for (int i = 4; i < argc; ++i) {
         const std::string w = argv[i];
         if (w == "no-overlap") overlap = false;
         else if (w == "cuda") cuda = true;
         else if (w == "share-gpus") share = true;
+        else if (w == "verlet") verlet = true;
         else usage = true;
     }
     if (usage) {
-        std::fprintf(stderr, "usage: mpirun -np R mpi_equivalence SUBDOMAINS BALANCER STEPS [no-overlap] [cuda] [share-gpus]\n");
+        std::fprintf(stderr, "usage: mpirun -np R mpi_equivalence SUBDOMAINS BALANCER STEPS [no-overlap] [cuda] [share-gpus] [verlet]\n");
         return 2;
     }
     const int subdomains = std::atoi(argv[1]);
@@ -69,6 +73,10 @@ int main(int argc, char** argv) {
         distributed.overlap = overlap;  // paper 5.3's order unless no-overlap
         distributed.backend = cuda ? sph::BackendKind::cuda : sph::BackendKind::host;
         distributed.share_gpus = share;
+        distributed.search.verlet = verlet;
+        // 40 steps from rest move too little for the skin to expire: rebuild every 5 steps, so
+        // that refreshes, rebuilds and the repartitions they carry alternate.
+        if (verlet) distributed.search.rebuild_every = 5;
         sph::SolverOptions reference = distributed;
         reference.ranks = alone.get();
         reference.overlap = false;  // the order without overlap, in one process
@@ -98,11 +106,22 @@ int main(int argc, char** argv) {
             }
         }
         if (mpi->rank() == 0)
-            std::printf("%d ranks, %d subdomains, %s backend, balancer %s, overlap %s: %ld steps bitwise equal to one "
-                        "process without overlap; %ld slices moved, %llu particles migrated; rank_transport %s\n",
-                        mpi->size(), subdomains, cuda ? "cuda" : "host", balancer.c_str(),
-                        distributed.overlap ? "on" : "off", code ? 0L : steps, moved, migrated,
+            std::printf("%d ranks, %d subdomains, %s backend, %s, balancer %s, overlap %s: %ld steps bitwise equal to "
+                        "one process without overlap; %ld slices moved, %llu particles migrated; rank_transport %s\n",
+                        mpi->size(), subdomains, cuda ? "cuda" : "host",
+                        verlet ? ("Verlet lists built " + std::to_string(b.neighbour_list_builds()) + " times").c_str()
+                               : "cell search",
+                        balancer.c_str(), distributed.overlap ? "on" : "off", code ? 0L : steps, moved, migrated,
                         b.rank_transport_name().c_str());
+        if (code == 0 && verlet && a.neighbour_list_builds() != b.neighbour_list_builds()) {
+            std::fprintf(stderr, "the lists were built %ld times over the ranks and %ld times in one process\n",
+                         long(b.neighbour_list_builds()), long(a.neighbour_list_builds()));
+            code = 1;
+        }
+        if (code == 0 && verlet && b.neighbour_list_builds() < 2) {
+            std::fprintf(stderr, "the lists were never rebuilt, so no refresh across a rebuild was tested\n");
+            code = 1;
+        }
         if (code == 0 && balancer != "none" && moved == 0) {
             std::fprintf(stderr, "the balancer never moved a slice, so no repartition was tested\n");
             code = 1;
