@@ -100,6 +100,10 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
         d->clock().collect();
     }
     record_.stats = gather_stats(local_stats);
+    if (options_.search.verlet) rebuild_next_ = verlet_list_expired(record_.dt, record_.stats);
+    // The overlapped path reads the slices after each sort; with lists the first step may
+    // not sort.
+    if (domain_->overlapping()) domain_->read_slices(subdomains_);
 }
 
 // What periodic axes cannot be combined with, refused before anything is allocated.
@@ -131,14 +135,11 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
                          std::to_string(n) + " subdomains");
     RankGroup& ranks = options_.ranks ? *options_.ranks : process_ranks();
     // Lists on several subdomains refresh their ghosts in place between rebuilds; that is
-    // built for the host backend without overlap (in one process or across MPI ranks) so far.
+    // built for the host backend (in one process or across MPI ranks) so far.
     if (n > 1 && options_.search.verlet) {
         if (options_.backend != BackendKind::host)
             throw InputError("Verlet lists on several subdomains run on the host backend only so far; drop --verlet or "
                              "use 1 device");
-        if (options_.overlap)
-            throw InputError("Verlet lists on several subdomains run without the overlapped exchange only so far; "
-                             "drop --verlet or add --no-overlap");
     }
     // Refused here, before anything is allocated: GPU-direct that cannot be had.
     const RankTransportChoice rank_transport = choose_rank_transport(
@@ -213,8 +214,10 @@ const StepRecord& Simulation::step() {
     // Without lists every step sorts and exchanges whole particles. With lists only a rebuild
     // does (the lists are built on the exchanged state); between rebuilds each particle keeps
     // its slot, an owner keeps the particles that crossed its slab's faces, and the ghosts
-    // are refreshed in place. (Overlapping runs no lists: the settle sorts every step.)
-    const bool rebuild = overlap || !verlet || verlet_list_expired(record_.dt);
+    // are refreshed in place. Whether this step rebuilds was decided at the end of the last
+    // one, whose overlapped exchange was then a whole one (settled here) or a refresh.
+    const bool rebuild = !verlet || rebuild_next_;
+    if (rebuild) displacement_since_sort_ = 0;
     // With one slab there is nothing to drop or balance (the SlabDomain calls would do
     // nothing); the test only keeps two empty phases off the timeline.
     if (overlap) {
@@ -239,9 +242,12 @@ const StepRecord& Simulation::step() {
             ScopedPhase ph(clock(d), Phase::neighbour_list, n, d);
             subdomains_[d]->sort_by_cell();
         }
-    if (overlap) domain_->read_slices(subdomains_);  // the balancer's counts and the boundary slices' ranges
-    else if (rebuild) exchange_particles(n);
-    else refresh_ghosts(n);
+    if (overlap) {
+        // The balancer's counts and the boundary slices' ranges, of the sort just made.
+        if (rebuild) domain_->read_slices(subdomains_);
+    } else {
+        rebuild ? exchange_particles(n) : refresh_ghosts(n);
+    }
     if (verlet && rebuild) {
         // After the exchange: a subdomain lists its ghosts too.
         for (int d = 0; d < count; ++d) {
@@ -261,16 +267,18 @@ const StepRecord& Simulation::step() {
         ScopedPhase ph(clock(d), Phase::forces, n, d);
         verlet ? subdomains_[d]->compute_forces_listed() : subdomains_[d]->compute_forces();
     }
-    if (overlap) {
-        // The repartition delayed into the update (paper 5.3): decided on the host while the
-        // forces run, from the previous step's times (scaled to the particles each subdomain
-        // owns now: the last move has taken effect since they were measured); its slices
-        // travel with this step's exchange.
+    // The repartition delayed into the update (paper 5.3): decided on the host while the
+    // forces run (with lists after the diagnostics, and only before a rebuild: a move changes
+    // owners), from the previous step's times (scaled to the particles each subdomain owns
+    // now: the last move has taken effect since they were measured); its slices travel with
+    // this step's exchange.
+    auto decide_balance = [&] {
         ScopedPhase ph(host_clock_, Phase::balance, n, 0);
         std::vector<double> times;
         for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
         record_.slices_moved = domain_->decide_balance(n, times, record_.subdomain_particles);
-    }
+    };
+    if (overlap && !verlet) decide_balance();
     std::vector<StepStats> local_stats;
     for (int d = 0; d < count; ++d) {
         ScopedPhase ph(clock(d), Phase::diagnostics, n, d);
@@ -290,7 +298,9 @@ const StepRecord& Simulation::step() {
         last.step = n;
         throw BlowUpError(m.str(), std::move(last), n, stats.bad_id, quantity[kind]);
     }
+    if (verlet) rebuild_next_ = verlet_list_expired(dt, stats);
     if (overlap) {
+        if (verlet && rebuild_next_) decide_balance();
         advance_overlapped(rule, stats, n);
     } else {
         for (int d = 0; d < count; ++d) {
@@ -382,7 +392,11 @@ void Simulation::advance_overlapped(const TimeStep& rule, const StepStats& stats
     const double dt = rule.dt;
     const double vmax = std::sqrt(double(record_.stats.max_speed2));
     const double shift = scene_.params.shift > 0 ? dt * double(rule.shift_speed) : 0.0;
-    domain_->set_reach(dt * vmax + 0.5 * dt * dt * std::sqrt(double(stats.max_accel2)) + shift);
+    displacement_since_sort_ += dt * vmax + 0.5 * dt * dt * std::sqrt(double(stats.max_accel2)) + shift;
+    // Between list rebuilds the boundary area is what the neighbours hold as ghosts (reach 0):
+    // the refresh sends it in place.
+    const bool refresh = options_.search.verlet && !rebuild_next_;
+    refresh ? domain_->set_refresh_reach() : domain_->set_reach(displacement_since_sort_);
     const int count = int(subdomains_.size());
     for (int d = 0; d < count; ++d) {
         const auto cells = domain_->update_order(d);
@@ -395,7 +409,15 @@ void Simulation::advance_overlapped(const TimeStep& rule, const StepStats& stats
         subdomains_[d]->advance_cells(rule, cells[2].begin, cells[2].end);
     }
     ScopedPhase ph(host_clock_, Phase::exchange, step, 0);
-    domain_->begin_exchange(subdomains_);
+    if (refresh) {
+        // Counted with this step's record (a whole exchange is counted where it settles,
+        // which may be this step's start).
+        const ExchangeCounters c = domain_->begin_refresh(subdomains_);
+        record_.exchange.ghosts_sent += c.ghosts_sent;
+        record_.exchange.bytes += c.bytes;
+    } else {
+        domain_->begin_exchange(subdomains_);
+    }
     domain_->finish_exchange(subdomains_);
 }
 
@@ -422,11 +444,11 @@ real Simulation::verlet_skin() const { return real(options_.search.skin * scene_
 // The lists hold while no two particles can have closed the skin: each has moved at most
 // sum of dt |v| since the build, bounded from the step statistics (no per-particle state;
 // the half-skin threshold leaves room for the statistics being one step newer than the move).
-bool Simulation::verlet_list_expired(double dt) {
+bool Simulation::verlet_list_expired(double dt, const StepStats& stats) {
     const SearchOptions& s = options_.search;
     if (s.rebuild_every > 0) return steps_since_build_ >= s.rebuild_every;
-    const double vmax = std::sqrt(double(record_.stats.max_speed2));
-    const double amax = std::sqrt(double(record_.stats.max_accel2));
+    const double vmax = std::sqrt(double(stats.max_speed2));
+    const double amax = std::sqrt(double(stats.max_accel2));
     moved_since_build_ += dt * (vmax + 0.5 * dt * amax);
     return moved_since_build_ > 0.5 * verlet_skin();
 }

@@ -157,14 +157,15 @@ public:
     const std::string& rank_transport_note() const { return domain_->rank_transport_note(); }
     RankGroup& ranks() const { return domain_->ranks(); }
     // Overlapping (paper 5.3): how many slices beyond the neighbours' ghosts the last update's
-    // boundary slices reached (at least 1; more when particles may move further in a step).
+    // boundary slices reached (at least 1, more when particles may move further; 0 on a
+    // refresh of Verlet lists' ghosts, whose boundary areas are the neighbours' ghosts).
     int overlap_reach() const { return domain_->reach(); }
 
 private:
     double next_dt() const;
     void check_periodic_options() const;
     real verlet_skin() const;
-    bool verlet_list_expired(double dt);
+    bool verlet_list_expired(double dt, const StepStats& stats);
     void make_subdomains(const ParticleArrays& all);
     std::vector<int> subdomain_gpus(RankGroup& ranks, const SubdomainPlacement& placement) const;
     void exchange_particles(long step);
@@ -188,6 +189,12 @@ private:
     std::size_t n_total_ = 0, n_fluid_ = 0;
     long steps_since_build_ = 0, list_builds_ = 0;
     double moved_since_build_ = 0;
+    // Decided after the diagnostics of a step, for the next one (the overlapped exchange at
+    // the end of the step is a rebuild's or a refresh).
+    bool rebuild_next_ = false;
+    // Overlapping: how far any particle may have moved since the last sort (the boundary
+    // slices are index ranges of that sort; with lists it is several steps old).
+    double displacement_since_sort_ = 0;
 };
 
 // Converts absolute positions to the cell-relative form of particle.hpp.

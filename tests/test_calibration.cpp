@@ -25,13 +25,23 @@ TEST(SearchCalibration, TimesEveryStrategyAndPicksTheFastest) {
     EXPECT_EQ(c.best.rebuild_every, 0);  // the run rebuilds when its flow needs it, not every 5 steps
 }
 
-// Lists on several subdomains are refused with the overlapped exchange (the default).
-TEST(SearchCalibration, TimesTheCellSearchesWhereVerletListsAreRefused) {
+// Lists on several host subdomains, overlapped (the default), are timed like one subdomain's.
+TEST(SearchCalibration, TimesTheListsOnSeveralSubdomains) {
     SolverOptions two;
     two.subdomains = 2;
     const Calibration c = calibrate_search(test::small_dambreak("0.05"), two, 3);
+    ASSERT_EQ(c.trials.size(), 10u);
+    EXPECT_TRUE(c.verlet_skipped.empty()) << c.verlet_skipped;
+}
+
+// Where the lists are refused (particle shifting), the cell searches are timed and the
+// refusal is said.
+TEST(SearchCalibration, TimesTheCellSearchesWhereVerletListsAreRefused) {
+    Scene shifted = test::small_dambreak("0.05");
+    shifted.params.shift = 0.5;
+    const Calibration c = calibrate_search(shifted, SolverOptions{}, 3);
     ASSERT_EQ(c.trials.size(), 8u);
-    EXPECT_NE(c.verlet_skipped.find("overlapped exchange"), std::string::npos) << c.verlet_skipped;
+    EXPECT_NE(c.verlet_skipped.find("shifting"), std::string::npos) << c.verlet_skipped;
     EXPECT_FALSE(c.best.verlet);
 }
 

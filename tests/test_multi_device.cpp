@@ -89,14 +89,17 @@ INSTANTIATE_TEST_SUITE_P(Slabs, MultiDevice,
 // their owners, and a particle that crosses a slab face stays with its owner until the next
 // rebuild. Each particle lists the same neighbours in the same order as on one subdomain and
 // reads the same bits of them, so the result is bitwise the same, rebuilding on the same
-// steps. Returns the particles the rebuild exchanges migrated.
-unsigned long long expect_lists_match_one_subdomain(const MultiCase& mc, double skin, int rebuild_every) {
+// steps. Overlapped (paper 5.3), the exchange at the end of a step is a rebuild's (settled at
+// the start of the next, with a repartition decided then) or a refresh's, with the same
+// result. Returns the particles the rebuild exchanges migrated.
+unsigned long long expect_lists_match_one_subdomain(const MultiCase& mc, double skin, int rebuild_every,
+                                                    bool overlap = false) {
     const Scene s = test::small_dambreak("0.04");
     SolverOptions one, many;
     one.search = many.search = SearchOptions{mc.cells_per_support, mc.merge, true, skin, rebuild_every};
     many.subdomains = mc.subdomains;
     many.balancer = mc.balancer;
-    many.overlap = false;
+    many.overlap = overlap;
     Simulation a(s, one), b(s, many);
     EXPECT_EQ(b.subdomain_count(), mc.subdomains);
     int moved = 0;
@@ -116,19 +119,25 @@ unsigned long long expect_lists_match_one_subdomain(const MultiCase& mc, double 
     if (std::string(mc.balancer) == "simple") {
         EXPECT_GT(moved, 0) << "the balancer never moved a slice";
     }
-    std::printf("lists on %d subdomains, balancer %s: %ld builds in 60 steps, %d slices moved, %llu particles "
-                "migrated\n", mc.subdomains, mc.balancer, b.neighbour_list_builds(), moved, migrated);
+    std::printf("lists on %d subdomains, balancer %s, overlap %s: %ld builds in 60 steps, %d slices moved, %llu "
+                "particles migrated\n", mc.subdomains, mc.balancer, overlap ? "on" : "off", b.neighbour_list_builds(),
+                moved, migrated);
     return migrated;
 }
 
 // A skin of 0.002 supports rebuilds every few steps of this dam break.
 TEST_P(MultiDevice, ListsMatchOneSubdomainBitwise) { expect_lists_match_one_subdomain(GetParam(), 0.002, 0); }
+TEST_P(MultiDevice, ListsOverlappedMatchOneSubdomainBitwise) {
+    expect_lists_match_one_subdomain(GetParam(), 0.002, 0, true);
+}
 
 // Lists rebuilt every k steps (search.rebuild_every) with the default skin.
 TEST(MultiDeviceLists, RebuiltEveryKStepsMatchOneSubdomainBitwise) {
     expect_lists_match_one_subdomain(MultiCase{3, "none", 1, false}, 0.1, 10);
     expect_lists_match_one_subdomain(MultiCase{4, "simple", 2, true}, 0.1, 4);
     expect_lists_match_one_subdomain(MultiCase{2, "every:5", 1, true}, 0.1, 5);
+    expect_lists_match_one_subdomain(MultiCase{4, "simple", 2, true}, 0.1, 4, true);
+    expect_lists_match_one_subdomain(MultiCase{2, "every:5", 1, true}, 0.1, 5, true);
 }
 
 // The host sort merges a few ascending runs (what an exchange leaves: the kept range and one
@@ -281,11 +290,11 @@ TEST(OverlapSwitch, ParticlesCrossingSlabBoundariesWhileOverlappedAreRight) {
 }
 
 // Lists on slabs with particles crossing slab faces between rebuilds: a block of fluid moving
-// as one at 4 m/s along x, 0.25 slices a step, rebuilt every 4 steps (a skin of 0.9 support
-// holds the pairs over that), 16 steps. A particle that crosses stays with its owner, which updates it
+// as one at 4 m/s along x, 0.45 slices a step, rebuilt every 4 steps (the block moves as one,
+// so a skin of 0.9 support holds its pairs over that), 16 steps. A particle that crosses stays with its owner, which updates it
 // and sends it as a ghost from its slot, until the next rebuild moves it to its new owner;
 // some leave the domain. Against one subdomain, every step.
-TEST(MultiDeviceLists, ParticlesCrossingSlabFacesBetweenRebuildsAreRight) {
+void expect_crossers_between_rebuilds_right(bool overlap) {
     Scene s = test::random_scene(4096, 0, 1.0, 0.05, 11, 0.3, 0.02);
     for (std::size_t i = 0; i < s.size(); ++i) {  // a 16^3 lattice of spacing dp, moving along x
         s.position[i] = {0.1 + 0.05 * double(i % 16), 0.1 + 0.05 * double(i / 16 % 16), 0.1 + 0.05 * double(i / 256)};
@@ -297,9 +306,9 @@ TEST(MultiDeviceLists, ParticlesCrossingSlabFacesBetweenRebuildsAreRight) {
     SolverOptions one, many;
     one.search = many.search = SearchOptions{1, false, true, 0.9, 4};
     const double slice = (1 + one.search.skin) * double(s.params.support);  // one cell per support + skin
-    one.fixed_dt = many.fixed_dt = 0.25 * slice / 4.0;
+    one.fixed_dt = many.fixed_dt = 0.45 * slice / 4.0;
     many.subdomains = 4;  // no balancer: every particle migrated crossed a face
-    many.overlap = false;
+    many.overlap = overlap;
     one.max_speed_factor = many.max_speed_factor = 10;
     Simulation a(s, one), b(s, many);
     unsigned long long migrated = 0;
@@ -316,8 +325,16 @@ TEST(MultiDeviceLists, ParticlesCrossingSlabFacesBetweenRebuildsAreRight) {
     EXPECT_EQ(a.neighbour_list_builds(), b.neighbour_list_builds());
     EXPECT_GT(migrated, 500u) << "too few particles crossed slab faces between rebuilds";
     EXPECT_GT(left, 0u) << "no particle left the domain";
-    std::printf("a block moving 0.25 slices a step over 4 subdomains with lists rebuilt every 4 steps: %llu particles "
-                "migrated at rebuilds, %zu left the domain\n", migrated, left);
+    std::printf("a block moving 0.45 slices a step over 4 subdomains with lists rebuilt every 4 steps, overlap %s: "
+                "%llu particles migrated at rebuilds, %zu left the domain\n", overlap ? "on" : "off", migrated, left);
+}
+
+// Overlapped, the rebuild exchange sends boundary slices of the sort 4 steps back: they must
+// reach as far as the particles can have moved since, 1.8 slices (a reach of one step's bound,
+// 1 slice, loses particles here).
+TEST(MultiDeviceLists, ParticlesCrossingSlabFacesBetweenRebuildsAreRight) {
+    expect_crossers_between_rebuilds_right(false);
+    expect_crossers_between_rebuilds_right(true);
 }
 
 // The repartition delayed into the update: the move decided at one step takes effect with
@@ -542,12 +559,11 @@ TEST(MultiDeviceErrors, ListsOnSeveralSubdomainsAreRefusedWhereNotBuiltYet) {
         }
         return std::string("not refused");
     };
-    SolverOptions overlapped;  // overlap is on by default
-    EXPECT_NE(refusal(overlapped).find("--no-overlap"), std::string::npos) << refusal(overlapped);
     SolverOptions cuda;
-    cuda.overlap = false;
     cuda.backend = BackendKind::cuda;
     EXPECT_NE(refusal(cuda).find("host backend only"), std::string::npos) << refusal(cuda);
+    SolverOptions overlapped;  // overlap is on by default
+    EXPECT_EQ(refusal(overlapped), "not refused");
     SolverOptions host;
     host.overlap = false;
     EXPECT_EQ(refusal(host), "not refused");

@@ -167,7 +167,12 @@ void SlabDomain::plan_refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
 ExchangeCounters SlabDomain::refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
     if (!split()) return {};
     if (!refresh_planned_) throw RunError("a ghost refresh needs a plan made right after the last exchange");
-    return exchange_->refresh(subs, refresh_plan_, ranks_, placement_);
+    return exchange_->refresh(subs, refresh_plan_, ranks_, placement_, false);
+}
+
+ExchangeCounters SlabDomain::begin_refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
+    if (!refresh_planned_) throw RunError("a ghost refresh needs a plan made right after the last exchange");
+    return exchange_->refresh(subs, refresh_plan_, ranks_, placement_, true);
 }
 
 }  // namespace sph

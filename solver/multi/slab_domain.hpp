@@ -52,13 +52,15 @@ public:
     int rebalance(std::vector<std::unique_ptr<Subdomain>>& subs, long step, const std::vector<double>& update_times);
     // Migration and ghost refresh in one exchange, for the decomposition as it is now.
     ExchangeCounters exchange(std::vector<std::unique_ptr<Subdomain>>& subs);
-    // Verlet lists (not overlapped, in one process so far): right after exchange(), where
-    // each ghost block sits on its holder and on its owner (SlabExchange::plan_refresh); then
-    // each step until the next exchange, refresh() copies the owners' state into those
-    // ghosts, in place: no drop, no balance, no sort, so the lists built on the exchanged
-    // state stay valid.
+    // Verlet lists: right after exchange() (or settled()), where each ghost block sits on its
+    // holder and on its owner (SlabExchange::plan_refresh); then each step until the next
+    // exchange, refresh() copies the owners' state into those ghosts, in place: no drop, no
+    // balance, no sort, so the lists built on the exchanged state stay valid. Overlapping,
+    // begin_refresh() instead of begin_exchange(), after the boundary areas of
+    // set_refresh_reach() are updated: nothing is left in flight to settle.
     void plan_refresh(std::vector<std::unique_ptr<Subdomain>>& subs);
     ExchangeCounters refresh(std::vector<std::unique_ptr<Subdomain>>& subs);
+    ExchangeCounters begin_refresh(std::vector<std::unique_ptr<Subdomain>>& subs);
     const std::vector<GhostRefresh>& refresh_plan() const { return refresh_plan_; }
 
     // Paper section 5.3, when overlapping: the step's one exchange is issued during the
@@ -85,9 +87,11 @@ public:
     // now (the same time per particle), so that a move already made is not made again.
     int decide_balance(long step, const std::vector<double>& update_times,
                        const std::vector<std::size_t>& measured_particles);
-    // How far (metres along x) any particle can move in this step's update: how many slices
-    // the boundary areas must hold beyond the neighbours' extended slabs.
+    // How far (metres along x) any particle can have moved since the last sort: how many
+    // slices the boundary areas must hold beyond the neighbours' extended slabs.
     void set_reach(double max_displacement);
+    // A refresh's boundary areas: exactly the slices the neighbours hold as ghosts.
+    void set_refresh_reach() { reach_ = 0; }
     struct CellRange {
         std::uint32_t begin = 0, end = 0;
     };

@@ -145,7 +145,7 @@ std::vector<GhostRefresh> SlabExchange::plan_refresh(std::vector<std::unique_ptr
 
 ExchangeCounters SlabExchange::refresh(std::vector<std::unique_ptr<Subdomain>>& subs,
                                        const std::vector<GhostRefresh>& plan, RankGroup& ranks,
-                                       const SubdomainPlacement& placement) {
+                                       const SubdomainPlacement& placement, bool overlapped) {
     // The GPU transports and staging carry whole particles only so far (a refresh must not
     // carry ids).
     for (auto& sub : subs)
@@ -174,7 +174,7 @@ ExchangeCounters SlabExchange::refresh(std::vector<std::unique_ptr<Subdomain>>& 
     // The ghosts are written in place: each receiver's whole state is its area.
     std::vector<ParticleSpan> areas;
     for (auto& sub : subs) areas.push_back(sub->state(0, sub->size()));
-    transport_->deliver(subs, transfers, areas);
+    overlapped ? transport_->begin_delivery(subs, transfers, areas) : transport_->deliver(subs, transfers, areas);
     if (ranks.size() > 1) send_between_ranks(subs, outgoing, outgoing_rank, incoming, incoming_rank, areas, ranks);
     return c;
 }

@@ -89,9 +89,11 @@ public:
     // ghost flags) into the ghost slots of `plan`, made by plan_refresh after the last
     // rebuild exchange, with no sort since: within a rank by the transport, between ranks by
     // MPI messages of the state alone. Host subdomains only so far (RunError otherwise).
+    // overlapped: the transport's begin_delivery, after the owners' boundary areas were
+    // marked ready (finish_boundary_exchange orders the next work after it).
     // Counts the ghosts refreshed and their bytes (refreshed_bytes_per_particle).
     ExchangeCounters refresh(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<GhostRefresh>& plan,
-                             RankGroup& ranks, const SubdomainPlacement& placement);
+                             RankGroup& ranks, const SubdomainPlacement& placement, bool overlapped);
 
     // The exchange of paper section 5.3, issued after the boundary areas are updated (each
     // marked ready with the transport) and carried under the inner update. `starts[d]` holds
