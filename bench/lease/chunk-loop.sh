@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# Change 19 (issue 25; branch experiment/chunk-loop-unrolled, pack from there): the listed loop
-# over chunks unrolled, against change 17 (main at 2ae745d, carried as
+# Change 19 (issue 25): the listed loop over chunks unrolled, against change 17 (carried as
 # sphbench-c17): the CUDA list tests, ncu of the listed loop at its 1501st launch from rest (dam
 # break 1.04M, Wendland, half cells, skin 0.1), and change 19's whole event (whole-run spec).
 set -uo pipefail
