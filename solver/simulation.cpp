@@ -333,11 +333,11 @@ const StepRecord& Simulation::step() {
     return record_;
 }
 
-// Migration (particles that left their slab, slices the balancer moved) and the ghost
-// refresh, in one exchange. When timing, the host clock runs from idle devices to idle
-// devices, so that the phase holds the exchange (and its sort) and nothing queued before it;
-// profiling passes (timing off) skip those two waits.
-void Simulation::exchange_particles(long step) {
+// One exchange between subdomains, timed. When timing, the host clock runs from idle devices
+// to idle devices, so that the phase holds the exchange (and its sort) and nothing queued before
+// it; profiling passes (timing off) skip those two waits.
+template <class Exchange>
+void Simulation::timed_exchange(long step, Exchange exchange) {
     if (!domain_->split()) return;
     auto wait_for_devices = [&] {
         if (options_.timing)
@@ -345,22 +345,20 @@ void Simulation::exchange_particles(long step) {
     };
     wait_for_devices();
     ScopedPhase ph(host_clock_, Phase::exchange, step, 0);
-    record_.exchange = domain_->exchange(subdomains_);
+    record_.exchange = exchange();
     wait_for_devices();
 }
 
+// Migration (particles that left their slab, slices the balancer moved) and the ghost
+// refresh, in one exchange.
+void Simulation::exchange_particles(long step) {
+    timed_exchange(step, [&] { return domain_->exchange(subdomains_); });
+}
+
 // Verlet lists between rebuilds: each ghost gets its owner's state after the last update,
-// in the slot the lists hold it in (timed like exchange_particles).
+// in the slot the lists hold it in.
 void Simulation::refresh_ghosts(long step) {
-    if (!domain_->split()) return;
-    auto wait_for_devices = [&] {
-        if (options_.timing)
-            for (auto& d : subdomains_) d->synchronize();
-    };
-    wait_for_devices();
-    ScopedPhase ph(host_clock_, Phase::exchange, step, 0);
-    record_.exchange = domain_->refresh(subdomains_);
-    wait_for_devices();
+    timed_exchange(step, [&] { return domain_->refresh(subdomains_); });
 }
 
 // Paper section 5.3: the exchange the last step issued has arrived (the streams wait for it);

@@ -170,6 +170,7 @@ private:
     std::vector<int> subdomain_gpus(RankGroup& ranks, const SubdomainPlacement& placement) const;
     void exchange_particles(long step);
     void refresh_ghosts(long step);
+    template <class Exchange> void timed_exchange(long step, Exchange exchange);
     void settle_exchange(long step);
     void advance_overlapped(const TimeStep& rule, const StepStats& stats, long step);
     StepStats gather_stats(const std::vector<StepStats>& local) const;
