@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Change 19 (issue 25) on main (the listed loop over chunks unrolled), one short lease: the CUDA
-# tests, change 19's whole event (whole-run spec, Wendland 1.04M lists, 0 to 1 s), then ncu of the
+# Change 19 (issue 25) on main (the listed loop over chunks unrolled), one short lease: change
+# 19's whole event (whole-run spec, Wendland 1.04M lists, 0 to 1 s), the CUDA tests, then ncu of the
 # listed loop at its 1501st launch from rest for change 19 and change 17 (carried as
 # sphbench-c17, main at 2ae745d). Each result goes to $OUT as soon as it exists, so that a lease
 # cut short still returns what ran.
@@ -8,10 +8,10 @@ set -uo pipefail
 O=${OUT:-/tmp/out}; mkdir -p $O
 X="tools/gpu-run.sh exec"
 nvidia-smi --query-gpu=name,clocks.sm,clocks.mem,temperature.gpu,power.draw --format=csv > $O/gpu.txt
-$X sph_tests --gtest_filter='Cuda*:*Cuda*' > $O/cuda_tests.txt 2>&1; tail -2 $O/cuda_tests.txt
 PYTHONUNBUFFERED=1 $X sphbench run experiments/whole-run.toml --backend cuda --only dambreak-1.04M-wendland-lists \
   --out /tmp/wr > /tmp/wr.txt 2>&1; tail -3 /tmp/wr.txt
 cp /tmp/wr.txt /tmp/wr/ 2>/dev/null; tar -czf $O/whole-run.tar.gz -C /tmp wr
+$X sph_tests --gtest_filter='Cuda*:*Cuda*' > $O/cuda_tests.txt 2>&1; tail -2 $O/cuda_tests.txt
 CASE="dsph-dambreak --set kernel=wendland --backend cuda --quiet --warmup 0 --verlet --cells-per-support 2 --skin 0.1"
 for b in sphbench sphbench-c17; do
   $X ncu --clock-control none -k regex:forces_listed --launch-skip 1500 -c 1 --metrics smsp__inst_executed.sum \
