@@ -17,6 +17,13 @@
 #else
 #define SPH_HD_INLINE inline __attribute__((always_inline))
 #endif
+// The same for a lambda holding such a piece (after its parameter list): the listed loop's
+// entry body as a lambda stayed a call on the host, 32% more instructions (change 19).
+#if defined(__CUDACC__)
+#define SPH_LAMBDA_INLINE
+#else
+#define SPH_LAMBDA_INLINE __attribute__((always_inline))
+#endif
 
 namespace sph {
 

@@ -417,7 +417,7 @@ SPH_HD real4 listed_sums(std::uint32_t i, const ForceInputs& in, const Neighbour
     const int3v ci = Choices::entry_offsets ? int3v{0, 0, 0} : cell_of(i);
     const std::uint32_t n = list.count[i];
     // One entry through the pair sums.
-    const auto sum_entry = [&](std::uint32_t j) {
+    const auto sum_entry = [&](std::uint32_t j) SPH_LAMBDA_INLINE {
         int3v cj;  // with entry offsets: cell_j - cell_i of the rebuild (ci is zero)
         if constexpr (Choices::entry_offsets) {
             cj = ListEntry::cell_offset(j);
