@@ -55,10 +55,15 @@ SceneRunResult run_scene(const SceneRunRequest& request) {
     if (req.calibrate_search) {
         const Calibration cal = calibrate_search(scene, solver);
         solver.search = cal.best;
-        char line[96];
+        char line[160];
         for (const auto& t : cal.trials) {
-            std::snprintf(line, sizeof line, "%s%s=%.3fms", res.search_choice.empty() ? "" : " ",
-                          search_label(t.search).c_str(), t.mean_step_ms);
+            if (t.search.verlet)
+                std::snprintf(line, sizeof line, "%s%s=%.3fms(rebuild %.3f, listed %.3f, every %.1f)",
+                              res.search_choice.empty() ? "" : " ", search_label(t.search).c_str(), t.mean_step_ms,
+                              t.rebuild_step_ms, t.listed_step_ms, t.rebuild_interval);
+            else
+                std::snprintf(line, sizeof line, "%s%s=%.3fms", res.search_choice.empty() ? "" : " ",
+                              search_label(t.search).c_str(), t.mean_step_ms);
             res.search_choice += line;
         }
         res.search_choice = "chose " + search_label(cal.best) + "; " + res.search_choice;
