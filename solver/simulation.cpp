@@ -102,8 +102,8 @@ Simulation::Simulation(const Scene& scene, const SolverOptions& options) : scene
     record_.stats = gather_stats(local_stats);
     if (options_.search.verlet) rebuild_next_ = verlet_list_expired(record_.dt, record_.stats);
     // The overlapped path reads the slices after each sort; with lists the first step may
-    // not sort.
-    if (domain_->overlapping()) domain_->read_slices(subdomains_);
+    // not sort (without them every step reads its own).
+    if (options_.search.verlet && domain_->overlapping()) domain_->read_slices(subdomains_);
 }
 
 // What periodic axes cannot be combined with, refused before anything is allocated.
@@ -232,9 +232,7 @@ const StepRecord& Simulation::step() {
         // Moves slab boundaries from the previous step's update times (paper section 5.2);
         // with lists only where they are rebuilt, since a move changes owners.
         ScopedPhase ph(host_clock_, Phase::balance, n, 0);
-        std::vector<double> times;
-        for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
-        record_.slices_moved = domain_->rebalance(subdomains_, n, times);
+        record_.slices_moved = domain_->rebalance(subdomains_, repartition_number(n), last_update_times());
     }
     // The forces are taken where the previous step's update (over record_.dt) left particles.
     if (!overlap && rebuild)
@@ -249,14 +247,16 @@ const StepRecord& Simulation::step() {
         rebuild ? exchange_particles(n) : refresh_ghosts(n);
     }
     if (verlet && rebuild) {
+        // The refresh plan reads the cell ranges of the exchange's sort (before the builds are
+        // queued: on a GPU its read-back would otherwise wait for them, inside this phase).
+        {
+            ScopedPhase ph(host_clock_, Phase::exchange, n, 0);
+            domain_->plan_refresh(subdomains_);
+        }
         // After the exchange: a subdomain lists its ghosts too.
         for (int d = 0; d < count; ++d) {
             ScopedPhase ph(clock(d), Phase::neighbour_list, n, d);
             subdomains_[d]->build_neighbour_list(verlet_skin());
-        }
-        {
-            ScopedPhase ph(host_clock_, Phase::exchange, n, 0);
-            domain_->plan_refresh(subdomains_);
         }
         steps_since_build_ = 0;
         moved_since_build_ = 0;
@@ -274,9 +274,8 @@ const StepRecord& Simulation::step() {
     // this step's exchange.
     auto decide_balance = [&] {
         ScopedPhase ph(host_clock_, Phase::balance, n, 0);
-        std::vector<double> times;
-        for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
-        record_.slices_moved = domain_->decide_balance(n, times, record_.subdomain_particles);
+        record_.slices_moved =
+            domain_->decide_balance(repartition_number(n), last_update_times(), record_.subdomain_particles);
     };
     if (overlap && !verlet) decide_balance();
     std::vector<StepStats> local_stats;
@@ -386,7 +385,8 @@ void Simulation::settle_exchange(long step) {
 void Simulation::advance_overlapped(const TimeStep& rule, const StepStats& stats, long step) {
     // How far any particle can move in this update (integration.hpp): dt |v| + dt^2 / 2 |a|,
     // plus a shift of at most dt U. |v| is the largest fluid speed now (the last step's
-    // statistics are of the state it produced), |a| this step's.
+    // statistics are of the state it produced), |a| this step's. Summed since the last sort:
+    // the boundary slices are index ranges of that sort (with lists, several steps back).
     const double dt = rule.dt;
     const double vmax = std::sqrt(double(record_.stats.max_speed2));
     const double shift = scene_.params.shift > 0 ? dt * double(rule.shift_speed) : 0.0;
@@ -417,6 +417,21 @@ void Simulation::advance_overlapped(const TimeStep& rule, const StepStats& stats
         domain_->begin_exchange(subdomains_);
     }
     domain_->finish_exchange(subdomains_);
+}
+
+// Each subdomain's update time of the last step, in subdomain order (the balancer's input).
+std::vector<double> Simulation::last_update_times() const {
+    std::vector<double> times;
+    for (const PhaseTimes& t : record_.subdomain_ms) times.push_back(update_time(t));
+    return times;
+}
+
+// What the balancer counts its chances by (every:K acts on multiples of K): the step, where
+// every step may repartition; with lists, the rebuild the move will take effect at (the count
+// of builds so far, plus one), so that the overlapped path, which decides a step before that
+// rebuild, and the other, which decides at it, act alike.
+long Simulation::repartition_number(long step) const {
+    return options_.search.verlet ? list_builds_ + 1 : step;
 }
 
 // Every subdomain's statistics merged in subdomain order, as one process would (the kinetic

@@ -173,6 +173,8 @@ private:
     template <class Exchange> void timed_exchange(long step, Exchange exchange);
     void settle_exchange(long step);
     void advance_overlapped(const TimeStep& rule, const StepStats& stats, long step);
+    std::vector<double> last_update_times() const;
+    long repartition_number(long step) const;
     StepStats gather_stats(const std::vector<StepStats>& local) const;
     void gather_record(const std::vector<PhaseTimes>& local_ms, const std::vector<std::size_t>& local_particles);
     SnapshotData to_snapshot(const std::vector<ParticleArrays>& parts) const;

@@ -112,7 +112,9 @@ int SlabDomain::decide_balance(long step, const std::vector<double>& update_time
         for (int d = 0; d < subdomains(); ++d)
             if (measured_particles[d] > 0)
                 times[d] *= double(slabs_.particles(d, per_slice)) / double(measured_particles[d]);
-    return slabs_.apply_moves(balancer_->decide(slabs_, BalanceInput{times, per_slice, step}));
+    const int moved = slabs_.apply_moves(balancer_->decide(slabs_, BalanceInput{times, per_slice, step}));
+    if (moved > 0) refresh_planned_ = false;  // the ghost blocks change holders
+    return moved;
 }
 
 void SlabDomain::set_reach(double max_displacement) {
@@ -165,14 +167,18 @@ void SlabDomain::plan_refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
 }
 
 ExchangeCounters SlabDomain::refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
-    if (!split()) return {};
-    if (!refresh_planned_) throw RunError("a ghost refresh needs a plan made right after the last exchange");
-    return exchange_->refresh(subs, refresh_plan_, ranks_, placement_, false);
+    return refresh_ghosts(subs, false);
 }
 
 ExchangeCounters SlabDomain::begin_refresh(std::vector<std::unique_ptr<Subdomain>>& subs) {
-    if (!refresh_planned_) throw RunError("a ghost refresh needs a plan made right after the last exchange");
-    return exchange_->refresh(subs, refresh_plan_, ranks_, placement_, true);
+    return refresh_ghosts(subs, true);
+}
+
+ExchangeCounters SlabDomain::refresh_ghosts(std::vector<std::unique_ptr<Subdomain>>& subs, bool overlapped) {
+    if (!split()) return {};
+    // A move since the plan changed owners: only a whole exchange carries it.
+    if (!refresh_planned_) throw RunError("a ghost refresh needs a plan made right after the last exchange, with no move since");
+    return exchange_->refresh(subs, refresh_plan_, ranks_, placement_, overlapped);
 }
 
 }  // namespace sph

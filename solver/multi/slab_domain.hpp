@@ -74,6 +74,9 @@ public:
     //     boundary area), boundary_ready(d), advance [2] (the inner area); begin_exchange()
     //     sends the boundary areas whole while the inner areas are updated; finish_exchange()
     //     orders the next step's work after it.
+    // With Verlet lists a step settles, reads the slices and (after its statistics, when the
+    // next step rebuilds) balances only before a rebuild; a step followed by none calls
+    // set_refresh_reach() and begin_refresh() in place of set_reach() and begin_exchange().
     bool overlapping() const { return split() && overlap_; }
     bool exchange_in_flight() const { return in_flight_; }
     void settle(int local, Subdomain& sub);
@@ -121,6 +124,7 @@ public:
 private:
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells_; }
     std::vector<long long> per_slice_counts() const;  // from read_slices, summed over ranks
+    ExchangeCounters refresh_ghosts(std::vector<std::unique_ptr<Subdomain>>& subs, bool overlapped);
 
     GridView grid_;
     std::uint32_t slice_cells_;

@@ -70,10 +70,9 @@ BoundaryArea boundary_area(const SlabDecomposition& now, const SlabDecomposition
 ExchangeCounters SlabExchange::exchange(std::vector<std::unique_ptr<Subdomain>>& subs, const SlabDecomposition& slabs,
                                         RankGroup& ranks, const SubdomainPlacement& placement) {
     const int n = slabs.devices();
-    const int slices = slabs.slices();
     const int first_local = placement.first(ranks.rank()), local = int(subs.size());
-    auto ext_begin = [&](int k) { return std::max(0, slabs.begin(k) - ghost_slices_); };
-    auto ext_end = [&](int k) { return std::min(slices, slabs.end(k) + ghost_slices_); };
+    auto ext_begin = [&](int k) { return extended_begin(slabs, k); };
+    auto ext_end = [&](int k) { return extended_end(slabs, k); };
 
     // Where each extended slab (and the owned part inside it) starts and ends in each sorted
     // subdomain of this rank: one read of cell_start per subdomain.
@@ -104,10 +103,9 @@ std::vector<GhostRefresh> SlabExchange::plan_refresh(std::vector<std::unique_ptr
                                                      const SlabDecomposition& slabs, RankGroup& ranks,
                                                      const SubdomainPlacement& placement) {
     const int n = slabs.devices();
-    const int slices = slabs.slices();
     const int first_local = placement.first(ranks.rank()), local = int(subs.size());
-    auto ext_begin = [&](int k) { return std::max(0, slabs.begin(k) - ghost_slices_); };
-    auto ext_end = [&](int k) { return std::min(slices, slabs.end(k) + ghost_slices_); };
+    auto ext_begin = [&](int k) { return extended_begin(slabs, k); };
+    auto ext_end = [&](int k) { return extended_end(slabs, k); };
     // Per subdomain, cell_start at the edges of: its left ghosts [ghosts_begin, owned_begin),
     // its right ghosts [owned_end, ghosts_end), what its left neighbour holds of it as ghosts
     // [owned_begin, to_left_end) and its right neighbour [to_right_begin, owned_end) (empty at
@@ -150,8 +148,8 @@ ExchangeCounters SlabExchange::refresh(std::vector<std::unique_ptr<Subdomain>>& 
     // carry ids).
     for (auto& sub : subs)
         if (sub->backend() != BackendKind::host) throw RunError("a refresh of ghosts on GPU subdomains is not built yet");
-    const int first_local = placement.first(ranks.rank()), local = int(subs.size());
-    auto is_local = [&](int g) { return g >= first_local && g < first_local + local; };
+    const int first_local = placement.first(ranks.rank());
+    auto is_local = [&](int g) { return placement.rank_of(g) == ranks.rank(); };
     ExchangeCounters c;
     std::vector<ParticleTransfer> transfers;  // between this rank's subdomains, in local indices
     // Between ranks, in the plan's order on both sides (every rank holds the whole plan).
@@ -185,7 +183,7 @@ ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& su
     ExchangeCounters c;
     const int n = placement.subdomains();
     const int me = ranks.rank(), first_local = placement.first(me), local = int(subs.size());
-    auto is_local = [&](int g) { return g >= first_local && g < first_local + local; };
+    auto is_local = [&](int g) { return placement.rank_of(g) == ranks.rank(); };
     // Blocks in rank order are subdomains in order: row g of the whole matrix is sizes[g * n, ...).
     const std::vector<TransferSize> sizes = allgather_values(ranks, mine);
     if (int(sizes.size()) != n * n) throw RunError("the ranks disagree on the number of subdomains");
@@ -281,8 +279,8 @@ ExchangeCounters SlabExchange::begin_boundary_exchange(std::vector<std::unique_p
 }
 
 std::size_t SlabExchange::settle(Subdomain& sub, int g, const SlabDecomposition& next) {
-    const std::uint32_t ext_begin = first_cell(std::max(0, next.begin(g) - ghost_slices_));
-    const std::uint32_t ext_end = first_cell(std::min(next.slices(), next.end(g) + ghost_slices_));
+    const std::uint32_t ext_begin = first_cell(extended_begin(next, g));
+    const std::uint32_t ext_end = first_cell(extended_end(next, g));
     const std::uint32_t owned_begin = first_cell(next.begin(g)), owned_end = first_cell(next.end(g));
     const ReceivedCount c = sub.accept_received_in(ext_begin, ext_end, owned_begin, owned_end);
     sub.sort_by_cell();

@@ -16,6 +16,7 @@
 // one rank go through the ParticleTransport, the others through the RankGroup, their
 // particles staged between the subdomains and the messages' host memory by the RankStaging
 // (in place on the host, through pinned memory for GPU subdomains).
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -120,6 +121,11 @@ public:
 
     std::uint32_t slice_cells() const { return std::uint32_t(grid_.ny) * std::uint32_t(grid_.nz); }
     std::uint32_t first_cell(int slice) const { return std::uint32_t(slice) * slice_cells(); }
+    // Subdomain k's extended slab in `slabs`: its slab and ghost_slices beyond each face.
+    int extended_begin(const SlabDecomposition& slabs, int k) const { return std::max(0, slabs.begin(k) - ghost_slices_); }
+    int extended_end(const SlabDecomposition& slabs, int k) const {
+        return std::min(slabs.slices(), slabs.end(k) + ghost_slices_);
+    }
     const ParticleTransport& transport() const { return *transport_; }
 
 private:
