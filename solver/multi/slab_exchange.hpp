@@ -153,8 +153,9 @@ private:
     std::unique_ptr<RankStaging> staging_;
 };
 
-// Bytes one particle occupies in a transfer (position, velocity and density, cell, id).
-constexpr std::size_t exchanged_bytes_per_particle = 2 * sizeof(real4) + 2 * sizeof(std::uint32_t);
+// Bytes one particle occupies in a whole transfer (position, velocity and density, the previous
+// step's, cell, id: the five arrays a transfer carries).
+constexpr std::size_t exchanged_bytes_per_particle = 3 * sizeof(real4) + 2 * sizeof(std::uint32_t);
 // Bytes one ghost's refresh carries (position, velocity and density, the previous step's, cell).
 constexpr std::size_t refreshed_bytes_per_particle = 3 * sizeof(real4) + sizeof(std::uint32_t);
 
