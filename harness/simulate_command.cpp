@@ -145,8 +145,9 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
                     "(required) and name, e.g. --gauge water_level:x=0.6,y=0.335,every=0.01");
     cmd->add_flag("--quiet", args->quiet, "no progress line");
     cmd->add_flag("--auto-search", args->auto_search,
-                  "time every search strategy for a few steps first, Verlet lists too (one subdomain), and run the "
-                  "fastest (overrides --merge, --cells-per-support, --verlet and --skin)");
+                  "time every search strategy for a few steps first, Verlet lists at four layouts and skins too "
+                  "(their rebuilds weighed by how often the run will rebuild), and run the one a whole run costs "
+                  "least with (overrides --merge, --cells-per-support, --verlet and --skin)");
     cmd->add_option("--validate", args->validate_every,
                     "evaluate the scene's validation metric every DT simulated seconds (dambreak: surge front against "
                     "Martin and Moyce; tank: hydrostatic pressure) into SCENE_validation.csv")
