@@ -21,9 +21,8 @@ public:
 
 }  // namespace
 
-ParticleSpan transfer_source(Subdomain& sub, const ParticleTransfer& transfer) {
-    return transfer.arrays == TransferArrays::state ? sub.state(transfer.first, transfer.count)
-                                                    : sub.particles(transfer.first, transfer.count);
+ParticleSpan source_arrays(Subdomain& sub, std::size_t first, std::size_t count, TransferArrays arrays) {
+    return arrays == TransferArrays::state ? sub.state(first, count) : sub.particles(first, count);
 }
 
 TransportKind parse_transport(const std::string& text) {

@@ -28,8 +28,13 @@ struct ParticleTransfer {
     TransferArrays arrays = TransferArrays::whole;
 };
 
+// The arrays of `arrays` of particles [first, first + count) of `sub`: its sorted particles
+// whole, or their state (Subdomain::state).
+ParticleSpan source_arrays(Subdomain& sub, std::size_t first, std::size_t count, TransferArrays arrays);
 // The arrays of `transfer.arrays` of particles [first, first + count) of `sub`.
-ParticleSpan transfer_source(Subdomain& sub, const ParticleTransfer& transfer);
+inline ParticleSpan transfer_source(Subdomain& sub, const ParticleTransfer& transfer) {
+    return source_arrays(sub, transfer.first, transfer.count, transfer.arrays);
+}
 
 // Calls f(dst_array, src_array) for each array the two spans both carry (a null array is not
 // carried), in the order pos, velrho, velrho_prev, cell, id.

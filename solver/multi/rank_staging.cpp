@@ -11,9 +11,7 @@ public:
     std::vector<ParticleSpan> stage_out(std::vector<std::unique_ptr<Subdomain>>& subs,
                                         const std::vector<StagedPiece>& pieces) override {
         std::vector<ParticleSpan> out;
-        for (const StagedPiece& p : pieces)
-            out.push_back(p.arrays == TransferArrays::state ? subs[p.sub]->state(p.first, p.count)
-                                                            : subs[p.sub]->particles(p.first, p.count));
+        for (const StagedPiece& p : pieces) out.push_back(source_arrays(*subs[p.sub], p.first, p.count, p.arrays));
         return out;
     }
     std::vector<ParticleSpan> stage_in(const std::vector<StagedPiece>& pieces,
