@@ -134,13 +134,6 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
         throw InputError("the device map names " + std::to_string(options_.device_map.size()) + " GPUs for " +
                          std::to_string(n) + " subdomains");
     RankGroup& ranks = options_.ranks ? *options_.ranks : process_ranks();
-    // Lists on several subdomains refresh their ghosts in place between rebuilds; that is
-    // built for the host backend (in one process or across MPI ranks) so far.
-    if (n > 1 && options_.search.verlet) {
-        if (options_.backend != BackendKind::host)
-            throw InputError("Verlet lists on several subdomains run on the host backend only so far; drop --verlet or "
-                             "use 1 device");
-    }
     // Refused here, before anything is allocated: GPU-direct that cannot be had.
     const RankTransportChoice rank_transport = choose_rank_transport(
         options_.backend, ranks.size(), options_.gpu_direct, ranks.cuda_aware(), ranks.library());
@@ -153,7 +146,7 @@ void Simulation::make_subdomains(const ParticleArrays& all) {
     domain_ = std::make_unique<SlabDomain>(grid_.view, n, options_.search.cells_per_support, options_.balancer, all,
                                            ranks, options_.overlap);
     const SubdomainConfig cfg{scene_.params, grid_.view, scene_.kernel, options_.diffusion && scene_.params.delta > 0,
-                              options_.search, false, options_.variants};
+                              options_.search, false, options_.variants, all.size()};
     // One subdomain holds everything; a slab needs room for what balancing gives it, plus ghosts.
     const std::size_t capacity = n == 1 ? all.size() : all.size() + all.size() / 4 + 1024;
     // One subdomain uploads `all` itself (no copy of a large scene).

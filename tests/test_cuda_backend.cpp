@@ -223,6 +223,50 @@ TEST(CudaBackend, SeveralSubdomainsOnOneGpuMatchOneBitwise) {
     }
 }
 
+// Verlet lists on several subdomains sharing one GPU (issue 25, step 7 of
+// docs/lists-with-slabs.md): between rebuilds each ghost block is refreshed in place from its
+// owner (with cell offsets in the entries, the owner's list frame; with plain entries, the
+// cells, whose coordinates the receiver recomputes), through each transport that works on one
+// GPU, overlapped and not; the rebuilds repartition. Against one subdomain with lists: the
+// same particles, bitwise, and the same rebuilds.
+TEST(CudaBackend, ListsOnSeveralSubdomainsOnOneGpuMatchOneBitwise) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const Scene s = test::small_dambreak("0.02");
+    for (const ListEntriesVariant entries : {ListEntriesVariant::automatic, ListEntriesVariant::plain})
+        for (const TransportKind transport : {TransportKind::peer, TransportKind::staged})
+            for (const bool overlap : {false, true}) {
+                SolverOptions one, many;
+                one.backend = many.backend = BackendKind::cuda;
+                one.fixed_dt = many.fixed_dt = 1.4e-4;
+                one.search = many.search = SearchOptions{2, true, true, 0.1, 5};
+                one.variants.list_entries = many.variants.list_entries = entries;
+                many.subdomains = 4;
+                many.device_map = {0, 0, 0, 0};
+                many.balancer = "simple";
+                many.transport = transport;
+                many.overlap = overlap;
+                Simulation a(s, one), b(s, many);
+                int moved = 0;
+                for (int k = 0; k < 200; ++k) {
+                    a.step();
+                    moved += b.step().slices_moved;
+                }
+                const SnapshotData sb = b.snapshot();
+                ASSERT_EQ(sb.id.size(), s.size()) << "particles lost or duplicated";
+                const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
+                std::size_t differ = 0;
+                for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+                const char* layout = entries == ListEntriesVariant::plain ? "plain" : "cell offsets";
+                std::printf("cuda lists (%s), 4 subdomains on one GPU, transport %s, overlap %s (%ld builds, %d slices "
+                            "moved) vs 1, 200 steps: %zu particles differ, largest difference %.3g dp\n",
+                            layout, transport_label(transport), overlap ? "on" : "off", b.neighbour_list_builds(),
+                            moved, differ, test::largest_fluid_difference(pa, pb, s.n_boundary) / s.dp);
+                EXPECT_EQ(differ, 0u) << layout << ", " << transport_label(transport) << ", overlap " << overlap;
+                EXPECT_EQ(a.neighbour_list_builds(), b.neighbour_list_builds());
+                EXPECT_GT(moved, 0);
+            }
+}
+
 // Paper section 5.3 on the GPU: the boundary slices updated first and copied on the
 // transport's own streams while the inner slices are updated. Several subdomains sharing one
 // GPU with the overlap on and off, and one subdomain, give bitwise the same particles, for

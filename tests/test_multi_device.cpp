@@ -551,27 +551,6 @@ public:
     [[noreturn]] void abort(int) override { throw std::logic_error("abort"); }
 };
 
-TEST(MultiDeviceErrors, ListsOnSeveralSubdomainsAreRefusedWhereNotBuiltYet) {
-    auto refusal = [](SolverOptions o) {
-        o.subdomains = 2;
-        o.search.verlet = true;
-        try {
-            Simulation sim(test::small_dambreak("0.04"), o);
-        } catch (const InputError& e) {
-            return std::string(e.what());
-        }
-        return std::string("not refused");
-    };
-    SolverOptions cuda;
-    cuda.backend = BackendKind::cuda;
-    EXPECT_NE(refusal(cuda).find("host backend only"), std::string::npos) << refusal(cuda);
-    SolverOptions overlapped;  // overlap is on by default
-    EXPECT_EQ(refusal(overlapped), "not refused");
-    SolverOptions host;
-    host.overlap = false;
-    EXPECT_EQ(refusal(host), "not refused");
-}
-
 TEST(MultiDeviceErrors, UnknownBalancerIsRefusedByName) {
     SolverOptions o;
     o.subdomains = 2;

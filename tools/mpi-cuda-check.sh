@@ -13,7 +13,8 @@
 #    rank_transport are printed.
 # 2. sph_mpi_equivalence (the mpi_*_match_one_process ctests' program) with the cuda word: every
 #    step, every particle against one process in the same job; 2 subdomains, and 4 with the
-#    simple balancer moving slabs across the rank boundary; overlap on and off.
+#    simple balancer moving slabs across the rank boundary; overlap on and off; the cell search
+#    and Verlet lists (rebuilt every 5 steps, ghosts refreshed in place between rebuilds).
 # 3. Bad input, each a non-zero exit with its sentence: more ranks than GPUs without
 #    --share-gpus, a device map naming a GPU the rank lacks, --gpu-direct of an MPI without
 #    CUDA support (a CUDA-aware MPI runs it, staged, and says so), also in one process.
@@ -120,14 +121,17 @@ if [ "$MPI_OK" = 1 ] && [ -n "$EQUIV" ]; then
   share_word=() backend_word=()
   [ "$BACKEND" = cuda ] && backend_word=(cuda)
   [ "$GPUS" -lt 2 ] && share_word=(share-gpus)
+  # Each with the cell search, and with Verlet lists (ghosts refreshed between rebuilds).
   for c in "2 none" "4 simple"; do
     for o in "" no-overlap; do
-      name="equivalence-${c// /-}${o:+-$o}"
-      if "${MPIRUN[@]}" -np 2 "$EQUIV" $c 40 $o "${backend_word[@]}" "${share_word[@]}" >"$OUT/$name.log" 2>&1; then
-        note "$name: $(grep -m1 'bitwise' "$OUT/$name.log")"
-      else
-        fail "$name (see $OUT/$name.log): $(grep -v '^\s*$' "$OUT/$name.log" | head -3 | tr '\n' ' ')"
-      fi
+      for l in "" verlet; do
+        name="equivalence-${c// /-}${o:+-$o}${l:+-$l}"
+        if "${MPIRUN[@]}" -np 2 "$EQUIV" $c 40 $o $l "${backend_word[@]}" "${share_word[@]}" >"$OUT/$name.log" 2>&1; then
+          note "$name: $(grep -m1 'bitwise' "$OUT/$name.log")"
+        else
+          fail "$name (see $OUT/$name.log): $(grep -v '^\s*$' "$OUT/$name.log" | head -3 | tr '\n' ' ')"
+        fi
+      done
     done
   done
 elif [ "$MPI_OK" = 1 ]; then

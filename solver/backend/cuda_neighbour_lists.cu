@@ -4,6 +4,8 @@
 // SubdomainConfig::variants.
 #include <cub/device/device_reduce.cuh>
 
+#include <algorithm>
+
 #include "backend/cuda_check.cuh"
 #include "backend/cuda_neighbour_lists.cuh"
 #include "physics/dispatch.hpp"
@@ -123,8 +125,11 @@ __global__ void cell_coords_kernel(const std::uint32_t* cell, const real4* pos, 
 // list_entries = plain keeps the plain entries where cell offsets would fit: the layout of
 // periodic grids, wide stencils and large subdomains, selectable to test it on any grid.
 bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n) {
+    // The run's bound where it is known, so that every subdomain decides alike (a ghost
+    // refresh copies the list frame between them).
+    const std::size_t bound = std::max<std::size_t>(n, cfg.particles_in_run);
     return cfg.variants.list_entries == ListEntriesVariant::automatic && !cfg.grid.any_periodic() &&
-           ListEntry::fits(n, cfg.search.cells_per_support);
+           bound <= 0xffffffffu && ListEntry::fits(std::uint32_t(bound), cfg.search.cells_per_support);
 }
 
 // list_build = per-lane builds lane by lane (build_lists_kernel) where the policy walks in

@@ -9,8 +9,8 @@
 namespace sph::gpu {
 
 // Whether a subdomain of n particles stores its lists with cell offsets (ListEntry): open
-// grids, stencils of at most ListEntry::reach_cells, fewer than 2^23 particles, and not
-// cfg.variants.list_entries = plain.
+// grids, stencils of at most ListEntry::reach_cells, fewer than 2^23 particles in the run
+// (cfg.particles_in_run, where set, else n), and not cfg.variants.list_entries = plain.
 bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n);
 // Each particle's cell as coordinates, from the linear cells (after a sort), and, where kept
 // has a build frame, its position as the frame's start.

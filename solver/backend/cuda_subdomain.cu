@@ -165,6 +165,22 @@ public:
         return {pos_.data() + first, velrho_.data() + first, velrho_prev_.data() + first, cell_.data() + first,
                 id_.data() + first, count, device_, stream_};
     }
+    // With cell offsets in the list entries the listed loop reads a neighbour's position from
+    // the list frame (positions against the rebuild's cells), not pos: a ghost refresh copies
+    // the owner's frame bit for bit (recomputing it could contract differently).
+    ParticleSpan state(std::size_t first, std::size_t count) override {
+        real4* frame = list_cell_offsets_ && build_frame_.size() >= n_ ? build_frame_.data() : pos_.data();
+        return {frame + first, velrho_.data() + first, velrho_prev_.data() + first, cell_.data() + first, nullptr,
+                count, device_, stream_};
+    }
+    // Plain entries: the listed loop reads a neighbour's cell as coordinates, which advance
+    // keeps for owned particles only; a ghost's come from the cell its owner sent (exact).
+    void ghosts_refreshed(std::size_t first, std::size_t count) override {
+        if (list_cell_offsets_ || !keeps_cell_coords() || count == 0) return;
+        use_device();
+        gpu::fill_cell_coords(cell_.data() + first, pos_.data() + first, KeptCells{cell_coords_.data() + first, nullptr},
+                              cfg_.grid, std::uint32_t(count), stream_);
+    }
     ParticleSpan receive_area(std::size_t count) override {
         use_device();
         if (count > recv_id_.size()) {

@@ -55,6 +55,10 @@ struct SubdomainConfig {
     SearchOptions search;
     bool integrate_boundary = false;  // true only to measure what skipping it saves (skip_bench)
     ImplementationVariants variants{};  // how the CUDA drivers run the phases (implementation_variants.hpp)
+    // Every particle of the run, which bounds what any one subdomain holds (each particle at
+    // most once): layouts that must agree between subdomains are decided from it, not from
+    // each subdomain's count (the CUDA lists' entries, which ghost refreshes copy between).
+    std::size_t particles_in_run = 0;
 };
 
 struct WorkCounters {
@@ -125,6 +129,13 @@ public:
         ParticleSpan s = particles(first, count);
         s.id = nullptr;
         return s;
+    }
+    // After a refresh wrote state() into ghosts [first, first + count) (ordered after the
+    // copies): what the listed forces read of them and state() does not carry is brought up
+    // to date (CUDA's cell coordinates of plain list entries, from the cells received).
+    virtual void ghosts_refreshed(std::size_t first, std::size_t count) {
+        (void)first;
+        (void)count;
     }
     virtual ParticleSpan receive_area(std::size_t count) = 0;
     virtual void accept_received() = 0;  // unsorted until the next sort

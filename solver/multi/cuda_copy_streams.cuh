@@ -14,11 +14,13 @@
 
 namespace sph {
 
-// The five arrays of `count` particles from `src` to `dst`, each device or page-locked host
-// memory (unified addressing tells which), queued on `stream` of the current GPU.
+// The arrays of `count` particles from `src` to `dst` that both carry (a null one is not
+// carried: a refresh's ids), each device or page-locked host memory (unified addressing tells
+// which), queued on `stream` of the current GPU.
 inline void copy_particles_async(const ParticleSpan& dst, const ParticleSpan& src, std::size_t count,
                                  cudaStream_t stream) {
     auto one = [&](auto* to, const auto* from) {
+        if (!to || !from) return;
         SPH_CUDA_CHECK(cudaMemcpyAsync(to, from, count * sizeof(*from), cudaMemcpyDefault, stream));
     };
     one(dst.pos, src.pos);

@@ -39,9 +39,10 @@ public:
         const PinnedStaging::Layout host = out_.particles(total(pieces));
         std::size_t at = 0;
         for (const StagedPiece& p : pieces) {
-            spans.push_back(staged_span(host, at, p.count));
+            // A refresh's pieces carry no ids: the message packs only what the span holds.
+            spans.push_back(carried_arrays(staged_span(host, at, p.count), p.arrays));
             SPH_CUDA_CHECK(cudaSetDevice(devices_[p.sub]));
-            copy_particles_async(spans.back(), subs[p.sub]->particles(p.first, p.count), p.count, lanes_.copy(p.sub));
+            copy_particles_async(spans.back(), piece_source(*subs[p.sub], p), p.count, lanes_.copy(p.sub));
             at += p.count;
         }
         wait(involved);  // MPI reads the memory next
@@ -53,7 +54,7 @@ public:
         const PinnedStaging::Layout host = in_.particles(total(pieces));
         std::size_t at = 0;
         for (const StagedPiece& p : pieces) {
-            spans.push_back(staged_span(host, at, p.count));
+            spans.push_back(carried_arrays(staged_span(host, at, p.count), p.arrays));
             at += p.count;
         }
         in_spans_ = spans;

@@ -97,9 +97,10 @@ public:
 private:
     static void copy_transfer(std::vector<std::unique_ptr<Subdomain>>& subs, const ParticleTransfer& t,
                               const ParticleSpan& dst, cudaStream_t stream) {
-        const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+        const ParticleSpan src = transfer_source(*subs[t.from], t);
         SPH_CUDA_CHECK(cudaSetDevice(src.device));
         auto copy = [&](auto* to, const auto* from) {
+            if (!to || !from) return;  // an array the transfer does not carry (a refresh's ids)
             SPH_CUDA_CHECK(
                 cudaMemcpyPeerAsync(to + t.offset, dst.device, from, src.device, t.count * sizeof(*from), stream));
         };
@@ -137,7 +138,7 @@ public:
         const PinnedStaging::Layout host = staging_.particles(total);
         std::size_t at = 0;
         for (const ParticleTransfer& t : transfers) {
-            const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+            const ParticleSpan src = transfer_source(*subs[t.from], t);
             SPH_CUDA_CHECK(cudaSetDevice(src.device));
             stage(t, src, host, at, true, lanes_.copy(t.from));
             at += t.count;
@@ -159,9 +160,10 @@ public:
         const PinnedStaging::Layout host = staging_.particles(total);
         std::size_t at = 0;
         for (const ParticleTransfer& t : transfers) {
-            const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+            const ParticleSpan src = transfer_source(*subs[t.from], t);
             SPH_CUDA_CHECK(cudaSetDevice(src.device));
             auto down = [&](auto* to, const auto* from) {
+                if (!from) return;  // not carried (a refresh's ids)
                 SPH_CUDA_CHECK(cudaMemcpyAsync(to + at, from, t.count * sizeof(*from), cudaMemcpyDeviceToHost, stream_of(src)));
             };
             down(host.pos, src.pos);
@@ -177,6 +179,7 @@ public:
             const ParticleSpan& dst = areas[t.to];
             SPH_CUDA_CHECK(cudaSetDevice(dst.device));
             auto up = [&](auto* to, const auto* from) {
+                if (!to) return;  // not carried (a refresh's ids)
                 SPH_CUDA_CHECK(cudaMemcpyAsync(to + t.offset, from + at, t.count * sizeof(*from), cudaMemcpyHostToDevice,
                                                stream_of(dst)));
             };
@@ -191,10 +194,11 @@ public:
     }
 
 private:
-    // One transfer's five arrays between device span `dev` and the staging memory at `at`.
+    // One transfer's arrays (those `dev` has) between device span `dev` and the staging memory at `at`.
     static void stage(const ParticleTransfer& t, const ParticleSpan& dev, const PinnedStaging::Layout& host,
                       std::size_t at, bool down, cudaStream_t stream) {
         auto pass = [&](auto* d, auto* h) {
+            if (!d) return;  // not carried (a refresh's ids)
             const std::size_t bytes = t.count * sizeof(*d);
             if (down) SPH_CUDA_CHECK(cudaMemcpyAsync(h + at, d, bytes, cudaMemcpyDeviceToHost, stream));
             else SPH_CUDA_CHECK(cudaMemcpyAsync(d + t.offset, h + at, bytes, cudaMemcpyHostToDevice, stream));
@@ -254,7 +258,7 @@ public:
                  const std::vector<ParticleSpan>& areas) override {
         comms_.begin_group();
         for (const ParticleTransfer& t : transfers) {
-            const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+            const ParticleSpan src = transfer_source(*subs[t.from], t);
             pass(subs, t, areas[t.to], stream_of(src), stream_of(areas[t.to]));
         }
         comms_.end_group();  // a failure above leaves the group open; the run stops with it
@@ -263,8 +267,9 @@ public:
 private:
     void pass(std::vector<std::unique_ptr<Subdomain>>& subs, const ParticleTransfer& t, const ParticleSpan& dst,
               cudaStream_t send_stream, cudaStream_t receive_stream) {
-        const ParticleSpan src = subs[t.from]->particles(t.first, t.count);
+        const ParticleSpan src = transfer_source(*subs[t.from], t);
         auto one = [&](auto* to, const auto* from) {
+            if (!to || !from) return;  // not carried (a refresh's ids), on both sides alike
             const std::size_t bytes = t.count * sizeof(*from);
             comms_.send(t.from, from, bytes, t.to, send_stream);
             comms_.receive(t.to, to + t.offset, bytes, t.from, receive_stream);

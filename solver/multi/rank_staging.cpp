@@ -11,7 +11,7 @@ public:
     std::vector<ParticleSpan> stage_out(std::vector<std::unique_ptr<Subdomain>>& subs,
                                         const std::vector<StagedPiece>& pieces) override {
         std::vector<ParticleSpan> out;
-        for (const StagedPiece& p : pieces) out.push_back(source_arrays(*subs[p.sub], p.first, p.count, p.arrays));
+        for (const StagedPiece& p : pieces) out.push_back(piece_source(*subs[p.sub], p));
         return out;
     }
     std::vector<ParticleSpan> stage_in(const std::vector<StagedPiece>& pieces,
@@ -59,6 +59,15 @@ ParticleSpan sub_span(const ParticleSpan& s, std::size_t first, std::size_t coun
     // A null array (one a transfer does not carry) stays null.
     auto at = [first](auto* p) { return p ? p + first : p; };
     return {at(s.pos), at(s.velrho), at(s.velrho_prev), at(s.cell), at(s.id), count, s.device, s.stream};
+}
+
+ParticleSpan carried_arrays(ParticleSpan span, TransferArrays arrays) {
+    if (arrays == TransferArrays::state) span.id = nullptr;
+    return span;
+}
+
+ParticleSpan piece_source(Subdomain& sub, const StagedPiece& p) {
+    return p.arrays == TransferArrays::state ? sub.state(p.first, p.count) : sub.particles(p.first, p.count);
 }
 
 std::unique_ptr<RankStaging> make_rank_staging(RankTransport kind, const std::vector<std::unique_ptr<Subdomain>>& subs) {

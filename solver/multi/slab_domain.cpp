@@ -178,7 +178,15 @@ ExchangeCounters SlabDomain::refresh_ghosts(std::vector<std::unique_ptr<Subdomai
     if (!split()) return {};
     // A move since the plan changed owners: only a whole exchange carries it.
     if (!refresh_planned_) throw RunError("a ghost refresh needs a plan made right after the last exchange, with no move since");
+    refresh_in_flight_ = overlapped;  // finish_exchange then tells the receivers
     return exchange_->refresh(subs, refresh_plan_, ranks_, placement_, overlapped);
+}
+
+void SlabDomain::finish_exchange(std::vector<std::unique_ptr<Subdomain>>& subs) {
+    exchange_->finish_boundary_exchange(subs);
+    if (!refresh_in_flight_) return;
+    refresh_in_flight_ = false;
+    exchange_->ghosts_refreshed(subs, refresh_plan_, ranks_, placement_);
 }
 
 }  // namespace sph

@@ -103,7 +103,7 @@ public:
     std::array<CellRange, 3> update_order(int local) const;
     void boundary_ready(std::vector<std::unique_ptr<Subdomain>>& subs, int local) { exchange_->mark_ready(subs, local); }
     void begin_exchange(std::vector<std::unique_ptr<Subdomain>>& subs);
-    void finish_exchange(std::vector<std::unique_ptr<Subdomain>>& subs) { exchange_->finish_boundary_exchange(subs); }
+    void finish_exchange(std::vector<std::unique_ptr<Subdomain>>& subs);
     int reach() const { return reach_; }
     // The copies of the exchange begun last, timed where they ran (CUDA events on the
     // transport's streams; waits for them); -1 where the host's time of begin_exchange is theirs.
@@ -143,6 +143,7 @@ private:
     std::vector<std::vector<std::uint32_t>> starts_;  // read_slices: per local subdomain
     std::vector<GhostRefresh> refresh_plan_;           // of the last exchange, when planned
     bool refresh_planned_ = false;
+    bool refresh_in_flight_ = false;                   // begun, not finished
     ExchangeCounters sent_;                            // of the exchange in flight
     unsigned long long migrated_ = 0;                  // settled so far on this rank
 };

@@ -144,10 +144,6 @@ std::vector<GhostRefresh> SlabExchange::plan_refresh(std::vector<std::unique_ptr
 ExchangeCounters SlabExchange::refresh(std::vector<std::unique_ptr<Subdomain>>& subs,
                                        const std::vector<GhostRefresh>& plan, RankGroup& ranks,
                                        const SubdomainPlacement& placement, bool overlapped) {
-    // The GPU transports and staging carry whole particles only so far (a refresh must not
-    // carry ids).
-    for (auto& sub : subs)
-        if (sub->backend() != BackendKind::host) throw RunError("a refresh of ghosts on GPU subdomains is not built yet");
     const int first_local = placement.first(ranks.rank());
     auto is_local = [&](int g) { return placement.rank_of(g) == ranks.rank(); };
     ExchangeCounters c;
@@ -174,7 +170,15 @@ ExchangeCounters SlabExchange::refresh(std::vector<std::unique_ptr<Subdomain>>& 
     for (auto& sub : subs) areas.push_back(sub->state(0, sub->size()));
     overlapped ? transport_->begin_delivery(subs, transfers, areas) : transport_->deliver(subs, transfers, areas);
     if (ranks.size() > 1) send_between_ranks(subs, outgoing, outgoing_rank, incoming, incoming_rank, areas, ranks);
+    if (!overlapped) ghosts_refreshed(subs, plan, ranks, placement);
     return c;
+}
+
+void SlabExchange::ghosts_refreshed(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<GhostRefresh>& plan,
+                                    RankGroup& ranks, const SubdomainPlacement& placement) {
+    const int first_local = placement.first(ranks.rank()), local = int(subs.size());
+    for (const GhostRefresh& r : plan)
+        if (r.to >= first_local && r.to < first_local + local) subs[r.to - first_local]->ghosts_refreshed(r.offset, r.count);
 }
 
 ExchangeCounters SlabExchange::carry(std::vector<std::unique_ptr<Subdomain>>& subs,

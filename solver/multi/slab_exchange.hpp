@@ -89,9 +89,9 @@ public:
     // Copies each owner's current state (Subdomain::state: not the ids, which keep the
     // ghost flags) into the ghost slots of `plan`, made by plan_refresh after the last
     // rebuild exchange, with no sort since: within a rank by the transport, between ranks by
-    // MPI messages of the state alone. Host subdomains only so far (RunError otherwise).
-    // overlapped: the transport's begin_delivery, after the owners' boundary areas were
-    // marked ready (finish_boundary_exchange orders the next work after it).
+    // MPI messages of the state alone; then each receiver's ghosts_refreshed. overlapped: the
+    // transport's begin_delivery, after the owners' boundary areas were marked ready; the
+    // caller then finishes it (finish_boundary_exchange) and calls ghosts_refreshed.
     // Counts the ghosts refreshed and their bytes (refreshed_bytes_per_particle).
     ExchangeCounters refresh(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<GhostRefresh>& plan,
                              RankGroup& ranks, const SubdomainPlacement& placement, bool overlapped);
@@ -106,6 +106,9 @@ public:
                                              const SlabDecomposition& now, const SlabDecomposition& next, int reach,
                                              const std::vector<std::vector<std::uint32_t>>& starts, RankGroup& ranks,
                                              const SubdomainPlacement& placement);
+    // Each local receiver of `plan`'s ghosts: Subdomain::ghosts_refreshed, queued after them.
+    void ghosts_refreshed(std::vector<std::unique_ptr<Subdomain>>& subs, const std::vector<GhostRefresh>& plan,
+                          RankGroup& ranks, const SubdomainPlacement& placement);
     // Orders each local subdomain's later work after the exchange (no host wait).
     void finish_boundary_exchange(std::vector<std::unique_ptr<Subdomain>>& subs) { transport_->finish_delivery(subs); }
     // After finish, and after subdomain `sub` (global g) dropped its ghosts: appends what it
