@@ -124,7 +124,10 @@ public:
     virtual ParticleSpan particles(std::size_t first, std::size_t count) = 0;
     // The same particles' state as the listed forces read it of a neighbour: pos, velrho,
     // velrho_prev and cell, with id null (a ghost refreshed from it keeps its ghost flag).
-    // A backend whose lists read another position array (CUDA's list frame) returns that.
+    // A backend whose lists read another position array (CUDA's list frame) returns that; its
+    // ghosts' pos then stays the rebuild's while their cell follows the owner, so nothing but
+    // the listed forces may read a ghost's pos between rebuilds (the gauges read owned fluid
+    // only, and a body's force its owned particles).
     virtual ParticleSpan state(std::size_t first, std::size_t count) {
         ParticleSpan s = particles(first, count);
         s.id = nullptr;

@@ -11,6 +11,7 @@
 #include "backend/cuda_check.cuh"
 #include "backend/pinned_staging.cuh"
 #include "backend/subdomain.hpp"
+#include "multi/particle_transport.hpp"
 
 namespace sph {
 
@@ -19,15 +20,9 @@ namespace sph {
 // which), queued on `stream` of the current GPU.
 inline void copy_particles_async(const ParticleSpan& dst, const ParticleSpan& src, std::size_t count,
                                  cudaStream_t stream) {
-    auto one = [&](auto* to, const auto* from) {
-        if (!to || !from) return;
+    for_each_array(dst, src, [&](auto* to, const auto* from) {
         SPH_CUDA_CHECK(cudaMemcpyAsync(to, from, count * sizeof(*from), cudaMemcpyDefault, stream));
-    };
-    one(dst.pos, src.pos);
-    one(dst.velrho, src.velrho);
-    one(dst.velrho_prev, src.velrho_prev);
-    one(dst.cell, src.cell);
-    one(dst.id, src.id);
+    });
 }
 
 // `count` particles of page-locked staging memory from particle `at`, as a host span.

@@ -2,7 +2,8 @@
 // (rank_staging.hpp). The copies run on a copy stream per subdomain, ordered by events: out,
 // after the sender's boundary update (or all its queued work, without the overlap) and
 // waited for on the host before MPI reads the memory; in, after the receiver's boundary
-// update (its receive area was last read before it, at the settle), with the receiver's later
+// update (its receive area was last read before it: at the settle, or, for a refresh of
+// Verlet lists' ghosts, whose area is the live ghost slots, by this step's forces), with the receiver's later
 // work ordered after them (so the settle at the next step's start sees them) and waited for
 // on the host before the memory is reused. The inner update, queued on the compute streams
 // before the exchange is issued, runs under both.

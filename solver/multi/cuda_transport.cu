@@ -99,16 +99,10 @@ private:
                               const ParticleSpan& dst, cudaStream_t stream) {
         const ParticleSpan src = transfer_source(*subs[t.from], t);
         SPH_CUDA_CHECK(cudaSetDevice(src.device));
-        auto copy = [&](auto* to, const auto* from) {
-            if (!to || !from) return;  // an array the transfer does not carry (a refresh's ids)
+        for_each_array(carried_arrays(dst, t.arrays), src, [&](auto* to, const auto* from) {
             SPH_CUDA_CHECK(
                 cudaMemcpyPeerAsync(to + t.offset, dst.device, from, src.device, t.count * sizeof(*from), stream));
-        };
-        copy(dst.pos, src.pos);
-        copy(dst.velrho, src.velrho);
-        copy(dst.velrho_prev, src.velrho_prev);
-        copy(dst.cell, src.cell);
-        copy(dst.id, src.id);
+        });
     }
 
     StreamEvents events_;
@@ -162,15 +156,7 @@ public:
         for (const ParticleTransfer& t : transfers) {
             const ParticleSpan src = transfer_source(*subs[t.from], t);
             SPH_CUDA_CHECK(cudaSetDevice(src.device));
-            auto down = [&](auto* to, const auto* from) {
-                if (!from) return;  // not carried (a refresh's ids)
-                SPH_CUDA_CHECK(cudaMemcpyAsync(to + at, from, t.count * sizeof(*from), cudaMemcpyDeviceToHost, stream_of(src)));
-            };
-            down(host.pos, src.pos);
-            down(host.velrho, src.velrho);
-            down(host.velrho_prev, src.velrho_prev);
-            down(host.cell, src.cell);
-            down(host.id, src.id);
+            stage(t, src, host, at, true, stream_of(src));
             at += t.count;
         }
         for (auto& s : subs) s->synchronize();
@@ -178,36 +164,22 @@ public:
         for (const ParticleTransfer& t : transfers) {
             const ParticleSpan& dst = areas[t.to];
             SPH_CUDA_CHECK(cudaSetDevice(dst.device));
-            auto up = [&](auto* to, const auto* from) {
-                if (!to) return;  // not carried (a refresh's ids)
-                SPH_CUDA_CHECK(cudaMemcpyAsync(to + t.offset, from + at, t.count * sizeof(*from), cudaMemcpyHostToDevice,
-                                               stream_of(dst)));
-            };
-            up(dst.pos, host.pos);
-            up(dst.velrho, host.velrho);
-            up(dst.velrho_prev, host.velrho_prev);
-            up(dst.cell, host.cell);
-            up(dst.id, host.id);
+            stage(t, dst, host, at, false, stream_of(dst));
             at += t.count;
         }
         for (auto& s : subs) s->synchronize();  // the staging memory is reused next time
     }
 
 private:
-    // One transfer's arrays (those `dev` has) between device span `dev` and the staging memory at `at`.
+    // The arrays transfer `t` carries between device span `dev` (its source going down, its
+    // destination's area coming up) and the staging memory at `at`.
     static void stage(const ParticleTransfer& t, const ParticleSpan& dev, const PinnedStaging::Layout& host,
                       std::size_t at, bool down, cudaStream_t stream) {
-        auto pass = [&](auto* d, auto* h) {
-            if (!d) return;  // not carried (a refresh's ids)
+        for_each_array(carried_arrays(dev, t.arrays), staged_span(host, at, t.count), [&](auto* d, auto* h) {
             const std::size_t bytes = t.count * sizeof(*d);
-            if (down) SPH_CUDA_CHECK(cudaMemcpyAsync(h + at, d, bytes, cudaMemcpyDeviceToHost, stream));
-            else SPH_CUDA_CHECK(cudaMemcpyAsync(d + t.offset, h + at, bytes, cudaMemcpyHostToDevice, stream));
-        };
-        pass(dev.pos, host.pos);
-        pass(dev.velrho, host.velrho);
-        pass(dev.velrho_prev, host.velrho_prev);
-        pass(dev.cell, host.cell);
-        pass(dev.id, host.id);
+            if (down) SPH_CUDA_CHECK(cudaMemcpyAsync(h, d, bytes, cudaMemcpyDeviceToHost, stream));
+            else SPH_CUDA_CHECK(cudaMemcpyAsync(d + t.offset, h, bytes, cudaMemcpyHostToDevice, stream));
+        });
     }
     void wait(const std::set<int>& lanes) {
         for (int d : lanes) SPH_CUDA_CHECK(cudaStreamSynchronize(lanes_.copy(d)));
@@ -268,17 +240,11 @@ private:
     void pass(std::vector<std::unique_ptr<Subdomain>>& subs, const ParticleTransfer& t, const ParticleSpan& dst,
               cudaStream_t send_stream, cudaStream_t receive_stream) {
         const ParticleSpan src = transfer_source(*subs[t.from], t);
-        auto one = [&](auto* to, const auto* from) {
-            if (!to || !from) return;  // not carried (a refresh's ids), on both sides alike
+        for_each_array(carried_arrays(dst, t.arrays), src, [&](auto* to, const auto* from) {
             const std::size_t bytes = t.count * sizeof(*from);
             comms_.send(t.from, from, bytes, t.to, send_stream);
             comms_.receive(t.to, to + t.offset, bytes, t.from, receive_stream);
-        };
-        one(dst.pos, src.pos);
-        one(dst.velrho, src.velrho);
-        one(dst.velrho_prev, src.velrho_prev);
-        one(dst.cell, src.cell);
-        one(dst.id, src.id);
+        });
     }
 
     NcclCommunicators comms_;

@@ -35,6 +35,11 @@ ParticleSpan source_arrays(Subdomain& sub, std::size_t first, std::size_t count,
 inline ParticleSpan transfer_source(Subdomain& sub, const ParticleTransfer& transfer) {
     return source_arrays(sub, transfer.first, transfer.count, transfer.arrays);
 }
+// `span` without the arrays that `arrays` does not carry (state: the ids).
+inline ParticleSpan carried_arrays(ParticleSpan span, TransferArrays arrays) {
+    if (arrays == TransferArrays::state) span.id = nullptr;
+    return span;
+}
 
 // Calls f(dst_array, src_array) for each array the two spans both carry (a null array is not
 // carried), in the order pos, velrho, velrho_prev, cell, id.

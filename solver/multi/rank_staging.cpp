@@ -61,15 +61,6 @@ ParticleSpan sub_span(const ParticleSpan& s, std::size_t first, std::size_t coun
     return {at(s.pos), at(s.velrho), at(s.velrho_prev), at(s.cell), at(s.id), count, s.device, s.stream};
 }
 
-ParticleSpan carried_arrays(ParticleSpan span, TransferArrays arrays) {
-    if (arrays == TransferArrays::state) span.id = nullptr;
-    return span;
-}
-
-ParticleSpan piece_source(Subdomain& sub, const StagedPiece& p) {
-    return p.arrays == TransferArrays::state ? sub.state(p.first, p.count) : sub.particles(p.first, p.count);
-}
-
 std::unique_ptr<RankStaging> make_rank_staging(RankTransport kind, const std::vector<std::unique_ptr<Subdomain>>& subs) {
     switch (kind) {
         case RankTransport::host_memory: return std::make_unique<InPlaceStaging>();

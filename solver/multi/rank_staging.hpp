@@ -41,10 +41,10 @@ struct StagedPiece {
 
 // `count` particles of `span` from `first` (the same memory).
 ParticleSpan sub_span(const ParticleSpan& span, std::size_t first, std::size_t count);
-// The arrays of `span` that a piece of `arrays` carries (state: all but the ids).
-ParticleSpan carried_arrays(ParticleSpan span, TransferArrays arrays);
 // What outgoing piece `p` reads of its subdomain: its sorted particles, or their state.
-ParticleSpan piece_source(Subdomain& sub, const StagedPiece& p);
+inline ParticleSpan piece_source(Subdomain& sub, const StagedPiece& p) {
+    return source_arrays(sub, p.first, p.count, p.arrays);
+}
 
 class RankStaging {
 public:
