@@ -38,9 +38,11 @@ struct ForceLoopPolicySm90 {
 // after block_size are physics/interaction.hpp's ListedLoopDefaults, chosen for this GPU.
 struct ListedLoopPolicySm90 {
     static constexpr int block_size = 128;
-    // __launch_bounds__' second argument: 8 blocks of 128 threads leave 64 registers a thread
-    // (without it the lookahead's loop took 71: 44% occupancy where 56 registers gave 52%).
-    static constexpr int min_blocks = 8;
+    // __launch_bounds__' second argument: 9 blocks of 128 threads leave 56 registers a thread.
+    // With 8 (64 registers) change 19's chunk loop took 61: 50% theoretical occupancy, 45.8%
+    // achieved, 1.23 ms where its instructions at change 17's 51.5% predict ~1.10 (change 20,
+    // unmeasured; the loop's Wendland variants spill 0-16 bytes of stack at 56).
+    static constexpr int min_blocks = 9;
     // Measured (change 8): without the decode's two integer divisions an entry costs ~141
     // instructions, not ~167; the loop then waits on memory (72% of its stalls).
     static constexpr bool packed_cells = true;
