@@ -310,6 +310,72 @@ def comparisons(data):
     return out
 
 
+BOX_FACE_AREA = 0.403 * 0.161   # m^2, the box's face toward the reservoir (x = 0.8245)
+LOAD_WINDOWS = ((0.3, 0.8), (0.8, 2.0))  # s: the first impact and its run-up; the flow after
+
+
+def box_load_row(code, run, dp, t, fx, net=True):
+    """The water's load on the box along -x (N): in the first window its largest sample, its
+    arrival (the first time it passes a fifth of that sample) and its impulse (N s) over IMPULSE_S
+    from the arrival, before the water wraps round to the box's back face; and, for a net force
+    (net), its mean over the second window, when water presses on the faces both ways."""
+    t = np.asarray(t, float)
+    load = -np.nan_to_num(np.asarray(fx, float))
+    first = (t >= LOAD_WINDOWS[0][0]) & (t <= LOAD_WINDOWS[0][1])
+    after = (t >= LOAD_WINDOWS[1][0]) & (t <= LOAD_WINDOWS[1][1])
+    row = {"code": code, "run": run, "dp": dp, "peak_n": np.nan, "arrival_s": np.nan,
+           "impulse_ns": np.nan, "mean_after_n": np.nan}
+    if first.sum() >= 2:
+        peak = float(load[first].max())
+        arrival = float(t[first][np.argmax(load[first] > ARRIVAL_FRACTION * peak)])
+        span = (t >= arrival) & (t <= arrival + IMPULSE_S)
+        row.update(peak_n=peak, arrival_s=arrival, impulse_ns=float(np.trapezoid(load[span], t[span])))
+    if net and after.sum() >= 2 and t[after][-1] >= LOAD_WINDOWS[1][1] - 0.01:
+        row["mean_after_n"] = float(np.trapezoid(load[after], t[after]) / (t[after][-1] - t[after][0]))
+    return row
+
+
+def box_loads(results, dualsphysics, measured):
+    """One row per run with a force on the box (ours: the gauge box_x of <run>_gauges.csv;
+    DualSPHysics: forcex of CASE.GaugesForce_Box.csv), and one for the measurement: the mean of
+    P1-P4 (the face's centre line, 5 ms moving average) times the face's area, an estimate that
+    takes the centre line's pressure for the whole width."""
+    rows = []
+    runs, _ = sphplot.load_runs(results, NAME)
+    folder_of_runs = Path(runs.attrs["path"]).parent
+    for _, run in runs.iterrows():
+        path = folder_of_runs / f"{run['run_id']}_gauges.csv"
+        if not path.is_file():
+            path = next(folder_of_runs.rglob(f"{run['run_id']}_gauges.csv"), path)
+        raw = pd.read_csv(path, skiprows=sphplot.read_comment_block(path)[1], dtype=str, keep_default_na=False)
+        if "box_x" not in raw.columns:
+            continue
+        cells = raw["box_x"].str.strip()
+        sampled = (cells != "").to_numpy()
+        t = pd.to_numeric(raw["time"][sampled], errors="coerce").to_numpy(float)
+        fx = pd.to_numeric(cells[sampled], errors="coerce").to_numpy(float)
+        rows.append(box_load_row("ours", run["run_id"], dp_of(run.get("set.dp", run["run_id"])), t, fx))
+    dsph_folder = Path(dualsphysics) if dualsphysics is not None else Path(results).parent / "spheric2-dualsphysics"
+    if (dsph_folder / "summary.tsv").is_file():
+        for name in pd.read_csv(dsph_folder / "summary.tsv", sep="\t")["case"].astype(str):
+            path = dsph_folder / f"{name}.GaugesForce_Box.csv"
+            if not path.is_file():
+                continue
+            g = pd.read_csv(path, sep=";")
+            fx = [c for c in g.columns if c.startswith("forcex")]
+            if not fx:
+                raise sphplot.ResultsError(f"{path} is not a DualSPHysics force gauge (no forcex column).")
+            rows.append(box_load_row("DualSPHysics", name, dp_of(name), g[g.columns[0]], g[fx[0]]))
+    end = float(measured["time"].iloc[-1])
+    grid, face = None, 0.0
+    for sensor in IMPACT_SENSORS:
+        grid, p = smoothed(measured["time"], measured[sensor], min(end, LOAD_WINDOWS[1][1]))
+        face = face + p / len(IMPACT_SENSORS)
+    rows.append(box_load_row("measured (estimate)", "mean of P1-P4 x face area", np.nan, grid, -face * BOX_FACE_AREA,
+                             net=False))
+    return pd.DataFrame(rows)
+
+
 def finest_p1(data):
     """Our run with a P1 series at the finest spacing (the fastest of them), or None."""
     ours = data[(data["code"] == "ours") & ~data["blew_up"]]
