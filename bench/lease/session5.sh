@@ -6,13 +6,17 @@
 #      cuda-tests benchmarks fig4 cll-vs-vl accuracy calibration force-loop-bench;
 #   b: make reference's whole-run (the whole events of experiments/whole-run.toml);
 #   c: make reference's spheric2 fig3 skip-bench figures, then the MPI check with the lists.
-# The build travels xz-packed (.carry-cluster/lease.tar.xz holds .carry/) with .dsph beside it.
-# Usage there: bash bench/lease/session5.sh a|b|c   (results in $OUT, reference.tar.gz resumes)
+# The build travels xz-packed under the 64 MiB a call carries: .carry-cluster/lease-a.tar.xz (all
+# but sph_skip_bench and sph_mpi_equivalence) with call a, .carry-c/lease-c.tar.xz (those two) with
+# call c; .carry/ stays on the machine between the calls (an ignored path).
+# Usage there: bash bench/lease/session5.sh a|b|c   (results in $OUT; each call's reference.tar.gz
+# holds all of results/reference/h200: take from it only what that call's items wrote)
 set -uo pipefail
 O=${OUT:-/tmp/out}; mkdir -p $O
-[ -x .carry/bin/sphbench ] || tar -xJf .carry-cluster/lease.tar.xz
+for t in .carry-cluster/*.tar.xz .carry-c/*.tar.xz; do [ -f "$t" ] && tar -xJf "$t"; done
+[ -x .carry/bin/sphbench ] || { echo "session5: no .carry/bin/sphbench: carry .carry-cluster (a fresh machine)"; exit 2; }
 X="tools/gpu-run.sh exec"
-export DSPH=$PWD/.dsph REFERENCE_ARCHIVE=$O/reference.tar.gz PYTHONUNBUFFERED=1
+export REFERENCE_ARCHIVE=$O/reference.tar.gz PYTHONUNBUFFERED=1
 ref() { REFERENCE_BUDGET_S=$1 REFERENCE_ONLY="$2" $X python3 tools/reference.py > $O/reference-$3.log 2>&1
         grep -E "done|failed|skipped|left|error" $O/reference-$3.log | tail -12; }
 case "$1" in
