@@ -20,9 +20,11 @@ A lease of a GPU machine is 10 minutes a command: REFERENCE_BUDGET_S=500 (or --b
 no item whose estimate no longer fits in what is left (later, smaller ones still run; the
 figures, about 30 s, are drawn at the end of every call outside the budget), and the next call
 resumes. The state is written after every item, and, when $OUT is set (the run tool's
-folder of files that come back) or --archive names a file, results/reference/<gpu>[-xN]/ is
-packed into one archive after every item, so that a command stopped at its limit still brings
-back what it finished.
+folder of files that come back) or --archive names a file, what this call wrote under
+results/reference/<gpu>[-xN]/ is packed into one archive after every item (split in parts of
+15 MiB where it is larger), so that a command stopped at its limit still brings back what it
+finished. Unpack each call's archive here before the next call: the next call's tree replaces
+the machine's results/reference/.
 
 Needs only Python 3's standard library; the figures need numpy, pandas and matplotlib, and are
 left for `make reference-figures` (here, after the results come back) where those are missing.
@@ -596,16 +598,37 @@ def build_commit():
     return commit, dirty or "unknown"
 
 
-def archive(dirs, target):
-    """All of the machine folders in one .tar.gz (the run tool brings back at most 8 files)."""
+ARCHIVE_PART_BYTES = 15 * 2 ** 20  # the run tool brings back no file over 16 MiB
+
+
+def archive(dirs, target, since=None):
+    """The machine folders' files in one .tar.gz (the run tool brings back at most 8 files): only
+    those written since `since` (a time.time(); this call's start) when it is given, so that an
+    archive holds this call's results and stays small (unpack each call's in order). An archive
+    over ARCHIVE_PART_BYTES is split into NAME.part01, NAME.part02 ... (`cat NAME.part* | tar -xz`)."""
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = target.with_name(f".{target.name}.tmp")
     with tarfile.open(tmp, "w:gz") as tar:
         for d in dirs:
-            if d.is_dir():
-                tar.add(d, arcname=str(d.resolve().relative_to(REPO)) if d.resolve().is_relative_to(REPO) else d.name)
-    os.replace(tmp, target)
+            if not d.is_dir():
+                continue
+            base = d.resolve().parent.relative_to(REPO) if d.resolve().is_relative_to(REPO) else Path()
+            for f in sorted(p for p in d.rglob("*") if p.is_file()):
+                if since is None or f.stat().st_mtime >= since:
+                    tar.add(f, arcname=str(base / f.resolve().relative_to(d.resolve().parent)))
+    for old in target.parent.glob(f"{target.name}.part*"):
+        old.unlink()
+    if tmp.stat().st_size <= ARCHIVE_PART_BYTES:
+        os.replace(tmp, target)
+        return
+    target.unlink(missing_ok=True)
+    with open(tmp, "rb") as whole:
+        for k, chunk in enumerate(iter(lambda: whole.read(ARCHIVE_PART_BYTES), b""), start=1):
+            target.with_name(f"{target.name}.part{k:02d}").write_bytes(chunk)
+    tmp.unlink()
+    print(f"reference: {target.name} is over {ARCHIVE_PART_BYTES >> 20} MiB: split into "
+          f"{target.name}.part01..{k:02d}; here: cat {target.name}.part* | tar -xz")
 
 
 # --------------------------------------------------------------------------------------------
@@ -617,7 +640,8 @@ LEASE_STEPS = """On a borrowed GPU machine (commands of at most 10 minutes, 64 M
                       python3 tools/reference.py --pack-dsph (.dsph/: DualSPHysics' anchor, xz)
   there, per command: DSPH=$PWD/.dsph REFERENCE_BUDGET_S=480 \\
                         tools/gpu-run.sh exec python3 tools/reference.py   (carry .carry and .dsph)
-  here, after each:   tar -xzf <what came back>/reference.tar.gz   (the results so far, over the tree)
+  here, after each:   tar -xzf <what came back>/reference.tar.gz   (this call's results, over the tree;
+                      before the next call, whose tree replaces the machine's results/reference/)
 Repeat until it prints "nothing left to run"; then `make claims` and commit results/reference/ with
 docs/results.md. Too large to carry together? Run REFERENCE_ONLY=dualsphysics in a call of its own
 carrying .dsph alone. On several GPUs, REFERENCE_ONLY="multi-gpu fig10 figures-multi".
@@ -670,6 +694,7 @@ def figures_only(args):
 
 
 def main(argv=None):
+    call_start = time.time()
     args = parse_args(argv)
     all_items = items(int(os.environ.get("REFERENCE_GPUS", "1")))
     if args.list:
@@ -815,7 +840,7 @@ def main(argv=None):
         ran.append(it.name)
         print(f"[{it.name}] {result} in {seconds:.0f} s", flush=True)
         if args.archive:
-            archive([x for x in dirs.values() if x is not None], args.archive)
+            archive([x for x in dirs.values() if x is not None], args.archive, since=call_start)
         if it.name == "cuda-tests" and result == "failed":
             print("reference: the CUDA tests failed, so no result of this build is worth recording; stopping.")
             break

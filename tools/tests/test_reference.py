@@ -105,12 +105,39 @@ class ReferenceRuns(unittest.TestCase):
         self.assertRegex(out, r"fig4 +up to date")
         self.assertIn("fig3", self.state())
         self.assertEqual(self.state()["fig4"]["date"], first["fig4"]["date"])  # not run again
+        with tarfile.open(self.out / "reference.tar.gz") as tar:  # this call's files only
+            names = tar.getnames()
+        self.assertIn("h200/fig3/runs.csv", names)
+        self.assertIn("h200/reference-state.json", names)
+        self.assertNotIn("h200/fig4/runs.csv", names)
 
         self.calls.unlink()
         rc, out, err = self.reference()
         self.assertEqual(rc, 0, out + err)
         self.assertIn("nothing left to run", out)
         self.assertFalse(self.calls.exists(), "a call with everything up to date ran a program")
+
+    def test_an_archive_over_the_limit_comes_back_in_parts(self):
+        sys.path.insert(0, str(SCRIPT.parent))
+        import reference
+        d = Path(self.tmp.name) / "h200"
+        (d / "whole-run").mkdir(parents=True)
+        data = os.urandom(300_000)  # incompressible: the archive is about this large
+        (d / "whole-run" / "a_steps.csv").write_bytes(data)
+        target = self.out / "reference.tar.gz"
+        limit = reference.ARCHIVE_PART_BYTES
+        try:
+            reference.ARCHIVE_PART_BYTES = 100_000
+            reference.archive([d], target)
+        finally:
+            reference.ARCHIVE_PART_BYTES = limit
+        parts = sorted(self.out.glob("reference.tar.gz.part*"))
+        self.assertGreaterEqual(len(parts), 3)
+        self.assertFalse(target.exists())
+        joined = Path(self.tmp.name) / "joined.tar.gz"
+        joined.write_bytes(b"".join(p.read_bytes() for p in parts))
+        with tarfile.open(joined) as tar:
+            self.assertEqual(tar.extractfile("h200/whole-run/a_steps.csv").read(), data)
 
     def test_a_new_binary_is_handed_to_the_harness_check(self):
         self.assertEqual(self.reference("--only", "fig4")[0], 0)
