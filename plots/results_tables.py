@@ -651,11 +651,15 @@ def front_offsets(folder):
                          f"+0.175: {f(r.rms_published_offset)}; b {f(r.lead_slope, '+.2f')} ({r.trend})")
         rows.append(cells)
     source = from_meta(folder, meta)
-    source.gpu = "host backend (no GPU)"
+    on_host = machine_of(folder).name == "host"
+    if on_host:
+        source.gpu = "host backend (no GPU)"
+    scale = ("Host backend, reduced scale (the spec's [host]: 10 spacings across the column)." if on_host else
+             "Full scale on the GPU, the runs of the accuracy table above (float32, and the float64 build's baseline).")
     return Table(["run"] + keys, rows, [source],
                  ["Per data set: RMS in Z of the mass-threshold front (of the particle front), the fitted offset dT in T "
                   "(> 0: ours leads) and the RMS with it, the RMS with the published +0.175, and the lead's slope b in T "
-                  "(`plots/accuracy.py`). Host backend, reduced scale (the spec's [host]: 10 spacings across the column)."])
+                  f"(`plots/accuracy.py`). {scale}"])
 
 
 TG_TIMES = (0.1, 0.15, 0.2, 0.3, 0.5)
