@@ -54,7 +54,9 @@ def write_ours(folder, run_id, height_offset, p1_scale, p1_delay, s_per_sim_s, d
                 heights.append("nan" if probe == "H1" and t < 0.01 and height_offset == 0 else f"{h:.10g}")
         else:
             heights = [""] * 4
-        forces = ["0", "0", "0"] if k % 5 == 0 else [""] * 3
+        # The water's load on the box: a 1,000 N triangle 40 ms wide at 0.45 s, along -x.
+        load = 1000.0 * max(0.0, 1 - abs(t - 0.45) / 0.02)
+        forces = [f"{-load:.10g}", "0", "0"] if k % 5 == 0 else [""] * 3
         pressures = [f"{p1_scale * p1[k]:.10g}"] + [f"{other[k]:.10g}"] * 7
         lines.append(",".join([f"{t:.10g}"] + heights + pressures + forces))
     with open(folder / f"{run_id}_gauges.csv", "w") as f:
@@ -123,6 +125,22 @@ def test_errors(root):
     return measured_path
 
 
+def test_box_loads(root, measured_path):
+    measured = spheric2.read_measured(measured_path)
+    loads = spheric2.box_loads(root / "spheric2", root / "spheric2-dualsphysics", measured)
+    ours = loads[loads["run"] == "dp0.02-wendland-lists"].iloc[0]
+    # Sampled every 5 ms: the peak on a sample, the arrival at the first sample over 200 N (250 N
+    # at 0.435 s), the triangle's 20 N s less the 0.4 below a fifth of its peak, to trapezoid error.
+    assert abs(ours["peak_n"] - 1000) < 1e-6 and abs(ours["arrival_s"] - 0.435) < 1e-9, ours
+    assert 19.0 < ours["impulse_ns"] < 20.1 and abs(ours["mean_after_n"]) < 1e-9, ours
+    est = loads[loads["code"] == "measured (estimate)"].iloc[0]
+    # The mean of P1 (the 10 kPa triangle, whose 5 ms average peaks at 8.8 kPa) and P2-P4 (1 kPa)
+    # times the face's area: 11.8 / 4 kPa x 0.0649 m^2; its baseline (48.7 N) is over a fifth of
+    # its peak: it arrives when the window opens.
+    assert abs(est["peak_n"] - 11.8e3 / 4 * 0.403 * 0.161) < 0.01 and abs(est["arrival_s"] - 0.3) < 1e-9 and np.isnan(est["mean_after_n"]), est
+    assert "DualSPHysics" not in set(loads["code"])  # its fake folder has no force gauge
+
+
 def test_script(root, measured_path):
     out = root / "out"
     p = subprocess.run([sys.executable, str(PLOTS / "spheric2.py"), "--results", str(root / "spheric2"),
@@ -151,6 +169,8 @@ def main():
         try:
             measured = test_errors(root)
             print("ok   errors against known answers")
+            test_box_loads(root, measured)
+            print("ok   the load on the box against known answers")
             test_script(root, measured)
             print("ok   script: figure, table, targets and Pareto front")
         except Exception:  # noqa: BLE001
