@@ -259,7 +259,7 @@ def skip_bench(folder, does, skips):
 def whole_run(folder):
     """DualSPHysics' dam break 1.04M over its whole event with our fastest path (Verlet lists), per
     kernel: seconds per simulated second, bytes a particle, a rebuild step in listed steps
-    (results of `make reference`'s whole-run item, or bench/lease/whole-run.sh's)."""
+    (results of `make reference`'s whole-run-1.04M and whole-run-4.04M items, or bench/lease/whole-run.sh's)."""
     runs = {}
     for path in sorted(folder.glob("dambreak-1.04M-*-lists.runs.csv")):
         df, meta = sphplot.read_csv_with_metadata(path)

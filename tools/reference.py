@@ -235,7 +235,8 @@ def run_dualsphysics(ctx, d):
 
 
 SPHERIC2_SPACINGS = ("0.02", "0.01", "0.0075")  # experiments/spheric2.toml's
-SPHERIC2_END_S = "2.0"
+# Simulated seconds per spacing: to 6 s where it fits in a lease, as experiments/spheric2.toml's runs.
+SPHERIC2_END_S = {"0.02": "6.0", "0.01": "6.0", "0.0075": "2.0"}
 
 
 def run_spheric2(ctx, d):
@@ -244,7 +245,7 @@ def run_spheric2(ctx, d):
 
 
 def run_spheric2_dualsphysics(ctx, d):
-    """DualSPHysics on SPHERIC Test 2 at our spacings, 0 to 2 s (its spheric2/make_case.sh, GenCase on
+    """DualSPHysics on SPHERIC Test 2 at our spacings, to SPHERIC2_END_S (its spheric2/make_case.sh, GenCase on
     the CPU): run time per simulated second and the water heights of its gauges at H1-H4."""
     anchor = Path(os.environ["DSPH"])
     unpack_xz(anchor)
@@ -260,7 +261,7 @@ def run_spheric2_dualsphysics(ctx, d):
             target.chmod(0o755)
         cases = work / "cases"
         for dp in SPHERIC2_SPACINGS:
-            ctx.sh(["bash", anchor / "spheric2" / "make_case.sh", dp, SPHERIC2_END_S, cases / f"dp{dp}"], log=None,
+            ctx.sh(["bash", anchor / "spheric2" / "make_case.sh", dp, SPHERIC2_END_S[dp], cases / f"dp{dp}"], log=None,
                    env=dict(os.environ, TMPDIR=str(work)))
         logs = work / "logs"
         env = dict(os.environ, DSPH_CASES=str(cases), DSPH_WORK=str(work / "scratch"))
@@ -326,6 +327,54 @@ def sphbench_run(spec, extra=None):
         ctx.sh([tool(ctx, "sphbench"), "run", f"experiments/{spec}.toml", "--backend", "cuda", "--out", d, "--quiet",
                 *(extra(ctx) if extra else [])], log=d / f"{spec}.log")
     return run
+
+
+# experiments/whole-run.toml's runs in groups that each fit one command of 10 minutes (all nine
+# took 579 s on an H200 at 674606d): one item a group, one `sphbench run --only` a run.
+WHOLE_RUN_GROUPS = {
+    "whole-run-1.04M": ["dambreak-1.04M-wendland-lists", "dambreak-1.04M-wendland-cells", "dambreak-1.04M-cubic-lists",
+                        "dambreak-1.04M-cubic-cells", "armadillo-2980K-lists", "armadillo-2980K-cells"],
+    "whole-run-4.04M": ["dambreak-4.04M-wendland-lists", "dambreak-4.04M-wendland-cells", "dambreak-4.04M-cubic-lists",
+                        "dambreak-4.04M-cubic-cells"],
+}
+
+
+def run_whole_run(run_ids):
+    """Each run into whole-run/ as the tables read it: RUN.runs.csv (its runs.csv), RUN.txt (what it
+    printed), and for a dam break its rows of windows.csv (bench/lease/step_windows.py over its steps
+    CSV, which is not kept: 7 MB a run)."""
+    def run(ctx, d):
+        out = d / "whole-run"
+        out.mkdir(exist_ok=True)
+        for rid in run_ids:
+            work = Path(tempfile.mkdtemp(prefix="whole-run-"))
+            try:
+                (out / f"{rid}.txt").unlink(missing_ok=True)
+                ctx.sh([tool(ctx, "sphbench"), "run", "experiments/whole-run.toml", "--backend", "cuda", "--only", rid,
+                        "--out", work], log=out / f"{rid}.txt")
+                shutil.copy(work / "whole-run" / "runs.csv", out / f"{rid}.runs.csv")
+                steps = work / "whole-run" / f"{rid}_steps.csv"
+                if rid.startswith("dambreak") and steps.is_file():
+                    merge_windows(out / "windows.csv", rid, steps)
+            finally:
+                shutil.rmtree(work, ignore_errors=True)
+    return run
+
+
+def merge_windows(path, rid, steps):
+    """windows.csv with run rid's rows replaced by those of its steps CSV."""
+    p = subprocess.run([sys.executable, str(REPO / "bench" / "lease" / "step_windows.py"), f"{rid}={steps}"],
+                       capture_output=True, text=True)
+    if p.returncode != 0:  # step_windows.py needs pandas, which a GPU machine may lack
+        last = (p.stderr.strip().splitlines() or ["no output"])[-1]
+        print(f"reference: windows.csv keeps no rows of {rid}: step_windows.py failed ({last})")
+        return
+    header, *rows = p.stdout.strip().splitlines()
+    kept = []
+    if path.is_file():
+        old = path.read_text().strip().splitlines()
+        kept = [r for r in old[1:] if not r.startswith(f"{rid},")]
+    path.write_text("\n".join([header, *kept, *rows]) + "\n")
 
 
 def run_accuracy(ctx, d):
@@ -433,21 +482,22 @@ def items(gpus=1):
         Item("accuracy", "accuracy against run time (experiments/accuracy.toml, float64 build too)", "single", 190,
              ["sphbench", "sphbench-f64"], run_accuracy, inputs=["experiments/accuracy.toml"],
              outputs=["accuracy/runs.csv"]),
-        Item("whole-run", "whole events: dam break 1.04M to 1 s, 4.04M to 0.3 s, armadillo 1000 steps "
-             "(experiments/whole-run.toml)", "single", 420, ["sphbench"], sphbench_run("whole-run"),
-             inputs=["experiments/whole-run.toml"], outputs=["whole-run/runs.csv"]),
+        *[Item(group, f"whole events of experiments/whole-run.toml: {', '.join(ids)}", "single",
+               {"whole-run-1.04M": 300, "whole-run-4.04M": 420}[group], ["sphbench"], run_whole_run(ids),
+               inputs=["experiments/whole-run.toml"], outputs=[f"whole-run/{i}.runs.csv" for i in ids])
+          for group, ids in WHOLE_RUN_GROUPS.items()],
         Item("whole-run-dualsphysics", "DualSPHysics v5.4 on the dam breaks' whole events (1.04M to 1 s, 4.04M to 0.3 s)",
              "single", 450, ["sphbench"], run_whole_run_dualsphysics,
              outputs=["whole-run-dualsphysics/summary-tmax-0.3.tsv"],
              needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "run.sh").is_file()
              else "DSPH (DualSPHysics' anchor folder with run.sh) is not set"),
-        Item("spheric2", "SPHERIC Test 2 to 2 s at three spacings (experiments/spheric2.toml, float64 build too)",
-             "single", 300, ["sphbench", "sphbench-f64"], run_spheric2,
+        Item("spheric2", "SPHERIC Test 2 at three spacings, to 6 s at dp 0.02 and 0.01 (experiments/spheric2.toml, "
+             "float64 build too)", "single", 420, ["sphbench", "sphbench-f64"], run_spheric2,
              inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2/runs.csv"]),
         # sphbench in its stamp, as the dam breaks': DualSPHysics reruns beside every new build of ours.
-        Item("spheric2-dualsphysics", "DualSPHysics v5.4 on SPHERIC Test 2 at the same spacings, to 2 s",
-             "single", 300, ["sphbench"], run_spheric2_dualsphysics,
+        Item("spheric2-dualsphysics", "DualSPHysics v5.4 on SPHERIC Test 2 at the same spacings, to 6 s at dp 0.02 "
+             "and 0.01, 2 s at 0.0075", "single", 420, ["sphbench"], run_spheric2_dualsphysics,
              outputs=["spheric2-dualsphysics/summary.tsv"],
              needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "spheric2", "make_case.sh").is_file()
              else "DSPH (DualSPHysics' anchor folder with spheric2/make_case.sh) is not set"),
@@ -627,7 +677,7 @@ def archive(dirs, target, since=None):
         for k, chunk in enumerate(iter(lambda: whole.read(ARCHIVE_PART_BYTES), b""), start=1):
             target.with_name(f"{target.name}.part{k:02d}").write_bytes(chunk)
     tmp.unlink()
-    print(f"reference: {target.name} is over {ARCHIVE_PART_BYTES >> 20} MiB: split into "
+    print(f"reference: {target.name} is over {ARCHIVE_PART_BYTES / 2 ** 20:g} MiB: split into "
           f"{target.name}.part01..{k:02d}; here: cat {target.name}.part* | tar -xz")
 
 

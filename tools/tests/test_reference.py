@@ -117,6 +117,38 @@ class ReferenceRuns(unittest.TestCase):
         self.assertIn("nothing left to run", out)
         self.assertFalse(self.calls.exists(), "a call with everything up to date ran a program")
 
+    def test_whole_runs_come_one_run_at_a_time(self):
+        rc, out, err = self.reference(REFERENCE_ONLY="whole-run-4.04M")
+        self.assertEqual(rc, 0, out + err)
+        folder = self.root / "h200" / "whole-run"
+        ids = ["dambreak-4.04M-wendland-lists", "dambreak-4.04M-wendland-cells", "dambreak-4.04M-cubic-lists",
+               "dambreak-4.04M-cubic-cells"]
+        for rid in ids:
+            self.assertTrue((folder / f"{rid}.runs.csv").is_file(), rid)
+            self.assertIn(f"--only {rid}", (folder / f"{rid}.txt").read_text())
+        self.assertEqual(self.calls.read_text().count("run whole-run"), len(ids))
+        self.assertIn("whole-run-4.04M", self.state())
+        self.assertNotIn("whole-run-1.04M", self.state())
+
+    def test_a_runs_windows_replace_its_old_rows(self):
+        sys.path.insert(0, str(SCRIPT.parent))
+        import reference
+        t = Path(self.tmp.name)
+        steps = t / "steps.csv"
+        # 100 steps of 0.01 s, a rebuild every 4th: 1 s simulated.
+        steps.write_text("time,neighbour_list_ms,wall_ms,forces_ms\n" + "".join(
+            f"{0.01 * (k + 1):.2f},{2.0 if k % 4 == 0 else 0.0},{3.0 if k % 4 == 0 else 1.0},0.5\n" for k in range(100)))
+        windows = t / "windows.csv"
+        windows.write_text("run,window_s\nother,0-1.0\nrun-a,0-1.0\n")
+        reference.merge_windows(windows, "run-a", steps)
+        reference.merge_windows(windows, "run-a", steps)
+        lines = windows.read_text().splitlines()
+        self.assertTrue(lines[0].startswith("run,window_s,steps,rebuilds"))
+        self.assertIn("other,0-1.0", lines)
+        whole = [ln for ln in lines if ln.startswith("run-a,0-1.0,")]
+        self.assertEqual(len(whole), 1, lines)  # replaced, not added to
+        self.assertTrue(whole[0].startswith("run-a,0-1.0,99,25,"), whole)  # t = 1.00 falls outside [0, 1)
+
     def test_an_archive_over_the_limit_comes_back_in_parts(self):
         sys.path.insert(0, str(SCRIPT.parent))
         import reference
