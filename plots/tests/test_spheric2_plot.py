@@ -125,6 +125,19 @@ def test_errors(root):
     return measured_path
 
 
+def test_six_seconds():
+    """A run to 6 s also gets its water heights' errors over 0-6 s; a 2 s run gets nan there."""
+    t6 = np.round(np.arange(0.0, 6.0005, 0.001), 6)
+    measured = spheric2.pd.DataFrame({"time": t6, **{p: measured_height(p, t6) for p in spheric2.PROBES}})
+    # Right to 2 s, then 0.011 m off: over 0-2 s nothing, over 0-6 s sqrt(4/6) x 2%.
+    series = {p: (t6[::5], measured_height(p, t6[::5]) + np.where(t6[::5] > 2.0, 0.011, 0.0)) for p in spheric2.PROBES}
+    row = spheric2.run_errors(series, measured, 2.0, 6.0)
+    assert row["H_rms_mean"] < 1e-9, row
+    assert abs(row["H_rms_mean_6s"] - 0.02 * np.sqrt(4.0 / 6.0)) < 2e-4, row["H_rms_mean_6s"]
+    short = spheric2.run_errors(series, measured, 2.0, 2.0)
+    assert np.isnan(short["H_rms_mean_6s"]) and np.isnan(short["H2_rms_6s"]), short
+
+
 def test_box_loads(root, measured_path):
     measured = spheric2.read_measured(measured_path)
     loads = spheric2.box_loads(root / "spheric2", root / "spheric2-dualsphysics", measured)
@@ -169,6 +182,8 @@ def main():
         try:
             measured = test_errors(root)
             print("ok   errors against known answers")
+            test_six_seconds()
+            print("ok   errors over 0-6 s for a 6 s run only")
             test_box_loads(root, measured)
             print("ok   the load on the box against known answers")
             test_script(root, measured)
