@@ -542,6 +542,17 @@ def accuracy(folder):
                   "diffusion 0.1, CLL, float32; each other run changes one of those."])
 
 
+def spheric2_sources(folder, meta, dsph):
+    """Where a SPHERIC Test 2 table reads from: our runs, and DualSPHysics' folder where there is one."""
+    sources = [from_meta(folder, meta)]
+    if dsph is not None:
+        try:
+            sources.append(from_item(dsph, "spheric2-dualsphysics"))
+        except Missing:  # copied in by hand, not by `make reference`: no commit to name
+            sources.append(Source(rel(dsph), claims.gpu_of(machine_of(dsph), None), None))
+    return sources
+
+
 def spheric2(folder, dsph_folder):
     """SPHERIC Test 2: each run of ours and of DualSPHysics, its water-height errors, P1's first
     peak and its run time (plots/spheric2.py's table)."""
@@ -550,12 +561,7 @@ def spheric2(folder, dsph_folder):
     runs, meta = sphplot.load_runs(folder)
     dsph = Path(dsph_folder) if Path(dsph_folder).is_dir() else None
     data, _, _, _ = sp2.table(folder, dsph, sp2.read_measured(sp2.MEASURED))
-    sources = [from_meta(folder, meta)]
-    if dsph is not None:
-        try:
-            sources.append(from_item(dsph, "spheric2-dualsphysics"))
-        except Missing:  # copied in by hand, not by `make reference`: no commit to name
-            sources.append(Source(rel(dsph), claims.gpu_of(machine_of(dsph), None), None))
+    sources = spheric2_sources(folder, meta, dsph)
     rows = []
     for _, r in data.sort_values(["code", "dp", "s_per_sim_s"], ascending=[False, False, True]).iterrows():
         p1 = (f"{r['P1_peak_kpa']:.2f} ({100 * r['P1_peak_err']:+.0f}%, {r['P1_peak_dt_ms']:+.0f} ms)"
@@ -584,12 +590,7 @@ def spheric2_box_load(folder, dsph_folder):
     _, meta = sphplot.load_runs(folder)
     dsph = Path(dsph_folder) if Path(dsph_folder).is_dir() else None
     data = sp2.box_loads(folder, dsph, sp2.read_measured(sp2.MEASURED))
-    sources = [from_meta(folder, meta)]
-    if dsph is not None:
-        try:
-            sources.append(from_item(dsph, "spheric2-dualsphysics"))
-        except Missing:  # copied in by hand, not by `make reference`: no commit to name
-            sources.append(Source(rel(dsph), claims.gpu_of(machine_of(dsph), None), None))
+    sources = spheric2_sources(folder, meta, dsph)
     order = {"ours": 0, "DualSPHysics": 1, "measured (estimate)": 2}
     data = data.assign(_o=data["code"].map(order), _dp=-data["dp"].fillna(-1)).sort_values(["_o", "_dp"])
     rows = [[r["code"], r["run"], f(r["arrival_s"], ".3f"), f(r["peak_n"], ".0f"), f(r["impulse_ns"], ".1f"),

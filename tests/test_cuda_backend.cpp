@@ -192,6 +192,32 @@ TEST(CudaBackend, GaugesMatchTheHostBackend) {
     }
 }
 
+// One subdomain (one) and several (many) run side by side for `steps` steps: the particles of
+// many's snapshot, how many differ from one's by id, and what the two runs did.
+struct OneAgainstMany {
+    std::size_t particles = 0, differ = 0;
+    int moved = 0;          // slices the balancer moved in many
+    double largest_dp = 0;  // the largest fluid difference, in spacings
+    long builds_one = 0, builds_many = 0;  // Verlet list builds
+};
+OneAgainstMany run_one_against_many(const Scene& s, const SolverOptions& one, const SolverOptions& many, int steps) {
+    Simulation a(s, one), b(s, many);
+    OneAgainstMany r;
+    for (int k = 0; k < steps; ++k) {
+        a.step();
+        r.moved += b.step().slices_moved;
+    }
+    const SnapshotData sb = b.snapshot();
+    r.particles = sb.id.size();
+    if (r.particles != s.size()) return r;
+    const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
+    for (std::size_t i = 0; i < pa.size(); ++i) r.differ += pa[i] != pb[i];
+    r.largest_dp = test::largest_fluid_difference(pa, pb, s.n_boundary) / s.dp;
+    r.builds_one = a.neighbour_list_builds();
+    r.builds_many = b.neighbour_list_builds();
+    return r;
+}
+
 // Several subdomains sharing one GPU against one subdomain on it: ghosts hold exactly the
 // particles of their cells, sorted by id, so each particle sums its neighbours in the same
 // order and the result is bitwise the same (as on the host, MultiDevice).
@@ -205,21 +231,12 @@ TEST(CudaBackend, SeveralSubdomainsOnOneGpuMatchOneBitwise) {
         many.subdomains = 4;
         many.device_map = {0, 0, 0, 0};
         many.balancer = balancer;
-        Simulation a(s, one), b(s, many);
-        int moved = 0;
-        for (int k = 0; k < 200; ++k) {
-            a.step();
-            moved += b.step().slices_moved;
-        }
-        const SnapshotData sb = b.snapshot();
-        ASSERT_EQ(sb.id.size(), s.size()) << "particles lost or duplicated";
-        const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
-        std::size_t differ = 0;
-        for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+        const OneAgainstMany r = run_one_against_many(s, one, many, 200);
+        ASSERT_EQ(r.particles, s.size()) << "particles lost or duplicated";
         std::printf("cuda, 4 subdomains on one GPU (balancer %s, %d slices moved) vs 1, 200 steps: %zu particles "
                     "differ, largest difference %.3g dp\n",
-                    balancer, moved, differ, test::largest_fluid_difference(pa, pb, s.n_boundary) / s.dp);
-        EXPECT_EQ(differ, 0u) << balancer;
+                    balancer, r.moved, r.differ, r.largest_dp);
+        EXPECT_EQ(r.differ, 0u) << balancer;
     }
 }
 
@@ -245,25 +262,16 @@ TEST(CudaBackend, ListsOnSeveralSubdomainsOnOneGpuMatchOneBitwise) {
                 many.balancer = "simple";
                 many.transport = transport;
                 many.overlap = overlap;
-                Simulation a(s, one), b(s, many);
-                int moved = 0;
-                for (int k = 0; k < 200; ++k) {
-                    a.step();
-                    moved += b.step().slices_moved;
-                }
-                const SnapshotData sb = b.snapshot();
-                ASSERT_EQ(sb.id.size(), s.size()) << "particles lost or duplicated";
-                const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(sb);
-                std::size_t differ = 0;
-                for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+                const OneAgainstMany r = run_one_against_many(s, one, many, 200);
+                ASSERT_EQ(r.particles, s.size()) << "particles lost or duplicated";
                 const char* layout = entries == ListEntriesVariant::plain ? "plain" : "cell offsets";
                 std::printf("cuda lists (%s), 4 subdomains on one GPU, transport %s, overlap %s (%ld builds, %d slices "
                             "moved) vs 1, 200 steps: %zu particles differ, largest difference %.3g dp\n",
-                            layout, transport_label(transport), overlap ? "on" : "off", b.neighbour_list_builds(),
-                            moved, differ, test::largest_fluid_difference(pa, pb, s.n_boundary) / s.dp);
-                EXPECT_EQ(differ, 0u) << layout << ", " << transport_label(transport) << ", overlap " << overlap;
-                EXPECT_EQ(a.neighbour_list_builds(), b.neighbour_list_builds());
-                EXPECT_GT(moved, 0);
+                            layout, transport_label(transport), overlap ? "on" : "off", r.builds_many, r.moved,
+                            r.differ, r.largest_dp);
+                EXPECT_EQ(r.differ, 0u) << layout << ", " << transport_label(transport) << ", overlap " << overlap;
+                EXPECT_EQ(r.builds_one, r.builds_many);
+                EXPECT_GT(r.moved, 0);
             }
 }
 
