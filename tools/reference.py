@@ -601,6 +601,14 @@ def stamp(item, tools, gpus):
     return h.hexdigest()[:16]
 
 
+def inputs_digest(item):
+    """What the item runs (its specs): a run of other specs says nothing of this one's time."""
+    h = hashlib.sha256()
+    for f in item.inputs:
+        h.update(f"{f}={digest(REPO / f)}\n".encode())
+    return h.hexdigest()[:16]
+
+
 def results_digest(d):
     """What the figures are drawn from: every CSV under the folder except the figures' own."""
     h = hashlib.sha256()
@@ -800,6 +808,8 @@ def main(argv=None):
         else:
             prev = states[it.scope]["items"].get(it.name, {})
             est = prev.get("estimate_s", it.estimate)
+            if prev.get("inputs", inputs_digest(it)) != inputs_digest(it):
+                est = max(est, it.estimate)  # its specs changed since it was timed (runs made longer)
             st = stamp(it, tools, n_gpus)
             if it.name.startswith("figures"):
                 st += results_digest(d) if d.is_dir() else ""
@@ -880,7 +890,7 @@ def main(argv=None):
             result = "up to date (sphbench)"  # its time says nothing of a real run's
         estimate = prev.get("estimate_s", it.estimate) if ctx.harness_skipped or result == "failed" else round(seconds, 1)
         state["items"][it.name] = {"stamp": getattr(it, "stamp", ""), "seconds": round(seconds, 1), "result": result,
-                                   "estimate_s": estimate,
+                                   "estimate_s": estimate, "inputs": inputs_digest(it),
                                    "what": it.what, "commit": commit, "dirty": dirty, "gpus": n_gpus,
                                    "gpu": gpus[0][0], "date": datetime.datetime.now(datetime.timezone.utc)
                                    .strftime("%Y-%m-%dT%H:%M:%SZ"), "commands": ctx.log_lines}
