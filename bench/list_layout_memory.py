@@ -17,6 +17,8 @@ import sys
 import h5py
 import numpy as np
 
+from snapshot_geometry import add_geometry_args
+
 
 def count(path, dp, coef_h, skin, n, kernel_support_h=2.0):
     with h5py.File(path, "r") as f:
@@ -71,10 +73,7 @@ def count(path, dp, coef_h, skin, n, kernel_support_h=2.0):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("snapshots", nargs="+")
-    p.add_argument("--dp", type=float, default=0.02)
-    p.add_argument("--coef-h", type=float, default=1.0)
-    p.add_argument("--skin", type=float, default=0.1)
-    p.add_argument("--n", type=int, default=2, help="cells per support")
+    add_geometry_args(p)
     a = p.parse_args(argv)
     print("time_s,particles,entries_mean,entries_max,list_rows_bytes,exact_rows_bytes,run_masks_bytes_mean,"
           "run_masks_bytes_max,longest_run")
