@@ -235,7 +235,8 @@ def whole_run_windows(folder):
     src = from_meta(folder, meta)
     src.path = rel(path)
     return Table(header, rows, [src], ["The windows are cut from the runs' step files (not committed, 7 MB each) by "
-                                       "`bench/lease/step_windows.py` in the same lease."])
+                                       "`bench/lease/step_windows.py` in the same lease (the folder's README says which "
+                                       "version and any relabelling)."])
 
 
 DSPH_CASES = {"dp0045_cubic": ("dam break 1.04M, cubic, cells of the support", "dsph-dambreak"),

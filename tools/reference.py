@@ -888,9 +888,12 @@ def main(argv=None):
         prev = state["items"].get(it.name, {})
         if ctx.harness_skipped and result == "done":
             result = "up to date (sphbench)"  # its time says nothing of a real run's
-        estimate = prev.get("estimate_s", it.estimate) if ctx.harness_skipped or result == "failed" else round(seconds, 1)
+        timed = not (ctx.harness_skipped or result == "failed")  # a skipped or failed run timed nothing
+        estimate = round(seconds, 1) if timed else prev.get("estimate_s", it.estimate)
         state["items"][it.name] = {"stamp": getattr(it, "stamp", ""), "seconds": round(seconds, 1), "result": result,
-                                   "estimate_s": estimate, "inputs": inputs_digest(it),
+                                   "estimate_s": estimate,
+                                   # the inputs the estimate was timed with: an untimed run keeps the old ones
+                                   "inputs": inputs_digest(it) if timed else prev.get("inputs"),
                                    "what": it.what, "commit": commit, "dirty": dirty, "gpus": n_gpus,
                                    "gpu": gpus[0][0], "date": datetime.datetime.now(datetime.timezone.utc)
                                    .strftime("%Y-%m-%dT%H:%M:%SZ"), "commands": ctx.log_lines}
