@@ -145,9 +145,24 @@ class ReferenceRuns(unittest.TestCase):
         lines = windows.read_text().splitlines()
         self.assertTrue(lines[0].startswith("run,window_s,steps,rebuilds"))
         self.assertIn("other,0-1.0", lines)
-        whole = [ln for ln in lines if ln.startswith("run-a,0-1.0,")]
+        whole = [ln for ln in lines if ln.startswith("run-a,0-1,")]
         self.assertEqual(len(whole), 1, lines)  # replaced, not added to
-        self.assertTrue(whole[0].startswith("run-a,0-1.0,99,25,"), whole)  # t = 1.00 falls outside [0, 1)
+        self.assertTrue(whole[0].startswith("run-a,0-1,100,25,"), whole)  # the whole run, its step at t = 1.00 too
+        self.assertTrue(any(ln.startswith("run-a,0.6-1,41,") for ln in lines), lines)  # the last window to the end
+
+    def test_a_run_to_0_3_s_has_no_window_past_its_end(self):
+        sys.path.insert(0, str(SCRIPT.parent))
+        import reference
+        t = Path(self.tmp.name)
+        steps = t / "steps.csv"
+        # 30 steps of 0.01 s, the last one just past the end time 0.3 s (as a run stops).
+        steps.write_text("time,neighbour_list_ms,wall_ms,forces_ms\n" + "".join(
+            f"{0.01 * (k + 1) + (1e-5 if k == 29 else 0):.5f},{2.0 if k % 4 == 0 else 0.0},1.0,0.5\n" for k in range(30)))
+        windows = t / "windows.csv"
+        reference.merge_windows(windows, "run-b", steps)
+        rows = [ln.split(",")[:3] for ln in windows.read_text().splitlines()[1:]]
+        self.assertEqual([r[1] for r in rows], ["0-0.05", "0.05-0.3", "0-0.3"], rows)
+        self.assertEqual([r[2] for r in rows], ["4", "26", "30"], rows)
 
     def test_an_archive_over_the_limit_comes_back_in_parts(self):
         sys.path.insert(0, str(SCRIPT.parent))
