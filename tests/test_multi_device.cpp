@@ -229,7 +229,12 @@ TEST_P(OverlapSwitch, ChangesNoParticle) {
             ASSERT_EQ(b.time(), c.time()) << "step " << k;
         }
     }
-    if (std::string(oc.balancer) != "none") {
+    // simple and every:K move a slice whenever two measured times differ, so they must have
+    // moved; threshold and equal-time hold still when the measured times (wall clock, noisy on a
+    // loaded machine: a CI run of this case once took 30 s instead of 0.6 s and never moved) do not
+    // predict a gain, which is their rule, tested with given times in test_load_balance.cpp.
+    const std::string balancer = oc.balancer;
+    if (balancer == "simple" || balancer.rfind("every:", 0) == 0) {
         EXPECT_GT(moved, 0) << "the balancer never moved a slice";
     }
 }
