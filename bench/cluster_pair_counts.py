@@ -52,6 +52,23 @@ Columns:
                                the water, which dominates large runs (walls are 45% of the particles
                                at dp 0.02, ~15% on the 1.04M dam break)
 
+j's side of a symmetric loop (cluster designs only; 0 for the full lists, which sum i alone). A
+warp owns cluster I and walks its list: i's sums stay in registers in a fixed order and are stored
+plainly into a buffer of its own at the end; what the pairs give j must reach j from other warps.
+Order-independent (so that results do not depend on thread timing) means integer fixed-point
+additions, 64-bit, one per quantity: 4 for a fluid j (acceleration and d rho / dt), 1 for a wall j
+(density only).
+  j_atomics_tile_pp            global atomics if each tile adds its j's sums once (after reducing
+                               them over its 8 i lanes by shuffles): sum over tiles with a body of
+                               the width of each j with at least one pair inside the support
+  j_atomics_block4_pp          the same if a block of 4 warps (4 consecutive clusters I) first
+                               gathers j's sums in shared memory (integer shared atomics) and adds
+                               each distinct j once: sum over blocks of the width of each distinct j
+  j_atomics_block8_pp          the same for blocks of 8 consecutive clusters
+  block8_union_max             the most distinct clusters J the 8 consecutive clusters of a block
+                               list (what its shared-memory slots must hold: 8 particles x 4
+                               quantities x 8 bytes a cluster)
+
 Asserted on every snapshot: all designs find the same set of inside-support unordered pairs (by
 particle id), the cluster designs each exactly once, and the full lists each twice. --self-test
 checks every design against an O(N^2) brute force on 2,000 random particles (--break shrinks the
@@ -59,7 +76,7 @@ box test or the stencil on purpose, to see the check fail).
 
 Usage: python3 bench/cluster_pair_counts.py SNAPSHOT.h5 [...] --dp DP [--coef-h 1] [--skin 0.1] [--n 2]
                                              [--origin X,Y,Z]
-       python3 bench/cluster_pair_counts.py --self-test [--break box|stencil]
+       python3 bench/cluster_pair_counts.py --self-test [--break box|stencil|atomics]
 """
 import argparse
 import sys
@@ -191,7 +208,8 @@ def full_lists(pos, fluid, ids, s, origin, stencil):
     r = dict(design="full-lists", clusters=0, cluster_fill=np.nan, cluster_pairs=0, candidates=len(I),
              inside_unordered=len(inside_set), body_needed=n_inside_directed, steps=iterations,
              body_steps=body_iterations, lane_candidates=len(I), list_entries=len(I), j_loads=len(I),
-             inside_fluid=inside_fluid_warps, body_steps_fluid=body_fluid_warps)
+             inside_fluid=inside_fluid_warps, body_steps_fluid=body_fluid_warps, j_atomics_tile=0,
+             j_atomics_block4=0, j_atomics_block8=0, block8_union_max=0)
     return r, inside_set
 
 
@@ -270,6 +288,9 @@ def cluster_design(name, pos, fluid, ids, s, order, cluster_of, shrink_box=1.0):
     PI, PJ = np.concatenate(PI), np.concatenate(PJ)
     # Every listed pair: 8 x 8 slots.
     candidates = tiles = body_tiles = lane_candidates = j_loads = inside_fluid = body_tiles_fluid = 0
+    j_atomics_tile = 0
+    block_keys = {4: [], 8: []}
+    width = np.where(fluid, 4, 1)  # integer additions a j takes: acceleration and density, or density
     n_inside = 0
     keys = []
     nid = int(ids.max()) + 1
@@ -301,13 +322,26 @@ def cluster_design(name, pos, fluid, ids, s, order, cluster_of, shrink_box=1.0):
             body_tiles_fluid += int((tile_hit & fl).sum())
             lane_candidates += int(valid[:, :, sl].sum())
             j_loads += int((mj[:, sl] >= 0).sum())
+            j_hit = hit[:, :, sl].any(axis=1)  # (pairs, 4): j has a pair inside in this tile
+            j_atomics_tile += int((j_hit * width[mj0[:, sl]]).sum())
+        p_hit, js_hit = np.nonzero(hit.any(axis=1))
+        for b in block_keys:
+            block_keys[b].append((I[p_hit] // b) * N + mj0[p_hit, js_hit])
     keys = np.concatenate(keys)
     inside_set = np.unique(keys)
     assert len(inside_set) == len(keys), f"{name}: an inside pair evaluated twice"
+    j_atomics_block = {}
+    for b, k in block_keys.items():
+        distinct = np.unique(np.concatenate(k)) if k else np.zeros(0, np.int64)
+        j_atomics_block[b] = int(width[distinct % N].sum())
+    union = np.unique((PI // 8) * nc + PJ)
+    block8_union_max = int(np.bincount(union // nc).max()) if len(union) else 0
     r = dict(design=name, clusters=nc, cluster_fill=N / nc, cluster_pairs=len(PI), candidates=candidates,
              inside_unordered=n_inside, body_needed=n_inside, steps=tiles, body_steps=body_tiles,
              lane_candidates=lane_candidates, list_entries=len(PI), j_loads=j_loads,
-             inside_fluid=inside_fluid, body_steps_fluid=body_tiles_fluid)
+             inside_fluid=inside_fluid, body_steps_fluid=body_tiles_fluid, j_atomics_tile=j_atomics_tile,
+             j_atomics_block4=j_atomics_block[4], j_atomics_block8=j_atomics_block[8],
+             block8_union_max=block8_union_max)
     return r, inside_set
 
 
@@ -351,7 +385,8 @@ def check_same(rows, sets, truth=None):
 
 HEADER = ("time_s,particles,fluid,design,clusters,cluster_fill,cluster_pairs_pp,candidates_pp,inside_unordered_pp,"
           "body_needed_pp,steps_pp,body_lane_slots_pp,test_only_lane_slots_pp,useful_fraction,lane_occupancy,"
-          "body_slots_vs_full,list_bytes_pp,j_loads_pp,useful_fraction_fluid")
+          "body_slots_vs_full,list_bytes_pp,j_loads_pp,useful_fraction_fluid,j_atomics_tile_pp,j_atomics_block4_pp,"
+          "j_atomics_block8_pp,block8_union_max")
 
 
 def format_rows(time, N, nfluid, rows):
@@ -367,7 +402,9 @@ def format_rows(time, N, nfluid, rows):
                    f"{r['body_needed'] / (WARP * r['body_steps']):.3f},"
                    f"{r['lane_candidates'] / (WARP * r['steps']):.3f},{body_slots / full_slots:.3f},"
                    f"{4 * r['list_entries'] / N:.1f},{r['j_loads'] / N:.1f},"
-                   f"{r['inside_fluid'] / max(1, WARP * r['body_steps_fluid']):.3f}")
+                   f"{r['inside_fluid'] / max(1, WARP * r['body_steps_fluid']):.3f},"
+                   f"{r['j_atomics_tile'] / N:.2f},{r['j_atomics_block4'] / N:.2f},{r['j_atomics_block8'] / N:.2f},"
+                   f"{r['block8_union_max']}")
     return out
 
 
@@ -385,6 +422,19 @@ def count_snapshot(path, s, origin):
     fails = check_same(rows, sets)
     assert not fails, f"{path}: designs disagree: " + "; ".join(fails)
     return format_rows(time, len(pos), int(fluid.sum()), rows)
+
+
+def j_side_atomics_by_pairs(a, b, fluid, order, cluster_of, blocks):
+    """j's integer additions counted from a list of inside pairs (original indices a, b), not from
+    the tiles: of each pair the particle later in the cluster order is j (I < J, or I = J with i's
+    slot below j's), and a j takes its width once per distinct (cluster of i // blocks, j)."""
+    rank = np.empty(len(order), np.int64)
+    rank[order] = np.arange(len(order))
+    ra, rb = rank[a], rank[b]
+    i_side, j_side = np.minimum(ra, rb), np.maximum(ra, rb)
+    width = np.where(fluid[order], 4, 1)
+    distinct = np.unique((cluster_of[i_side] // blocks) * len(order) + j_side)
+    return int(width[distinct % len(order)].sum())
 
 
 def self_test(s, broken):
@@ -405,6 +455,14 @@ def self_test(s, broken):
                              shrink_box=0.8 if broken == "box" else 1.0,
                              stencil=1 if broken == "stencil" else None)
     fails = check_same(rows, sets, truth)
+    # j's side against the brute force's pairs (a tile adds each j once, like blocks of one cluster)
+    o, cl = column_clusters(pos, ids, s, pos.min(axis=0))
+    if broken == "atomics":
+        cl = cl // 2  # clusters counted twice as large: every count below must then differ
+    for key, blocks in (("j_atomics_tile", 1), ("j_atomics_block4", 4), ("j_atomics_block8", 8)):
+        want = j_side_atomics_by_pairs(a[acts], b[acts], fluid, o, cl, blocks)
+        if rows[1][key] != want:
+            fails.append(f"cluster8-column: {key} {rows[1][key]}, the brute force's pairs give {want}")
     if rows[0]["candidates"] != 2 * reach_listed:
         fails.append(f"full-lists: {rows[0]['candidates']} entries, not 2 x {reach_listed} pairs within the reach")
     print(f"self-test: {N} random particles ({int(fluid.sum())} fluid), {len(truth)} inside pairs by brute force"
@@ -427,8 +485,9 @@ def main(argv=None):
     p.add_argument("--origin", default=None,
                    help="grid origin x,y,z (the scene's lo; dsph-dambreak: -2 dp each); default: the particles' min")
     p.add_argument("--self-test", action="store_true")
-    p.add_argument("--break", dest="broken", choices=["box", "stencil"], default=None,
-                   help="self-test only: shrink the cluster box test to 0.8 x reach, or search one cell each side")
+    p.add_argument("--break", dest="broken", choices=["box", "stencil", "atomics"], default=None,
+                   help="self-test only: shrink the cluster box test to 0.8 x reach, search one cell each side, "
+                        "or count j's additions from wrong clusters")
     a = p.parse_args(argv)
     s = Setup(a.dp, a.coef_h, a.skin, a.n)
     if a.self_test:
