@@ -37,6 +37,7 @@ pack)
   cp build-gpu/harness/sphbench build-gpu/tests/sph_tests "$CARRY/bin/"
   [ -x build-gpu/bench/sph_bench ] && cp build-gpu/bench/sph_bench "$CARRY/bin/"
   [ -x build-gpu/bench/sph_skip_bench ] && cp build-gpu/bench/sph_skip_bench "$CARRY/bin/"
+  [ -x build-gpu/bench/fixed_point_additions ] && cp build-gpu/bench/fixed_point_additions "$CARRY/bin/"
   # MPI runs against one process, every step (tools/mpi-cuda-check.sh; built where MPI is found).
   [ -x build-gpu/tests/sph_mpi_equivalence ] && cp build-gpu/tests/sph_mpi_equivalence "$CARRY/bin/"
   # F64=1: also the float64 sphbench (the accuracy sweep's precision = "float64" runs).
