@@ -334,7 +334,7 @@ def cluster_design(name, pos, fluid, ids, s, order, cluster_of, shrink_box=1.0):
     for b, k in block_keys.items():
         distinct = np.unique(np.concatenate(k)) if k else np.zeros(0, np.int64)
         j_atomics_block[b] = int(width[distinct % N].sum())
-    union = np.unique((PI // 8) * nc + PJ)
+    union = np.unique((PI // max(block_keys)) * nc + PJ)
     block8_union_max = int(np.bincount(union // nc).max()) if len(union) else 0
     r = dict(design=name, clusters=nc, cluster_fill=N / nc, cluster_pairs=len(PI), candidates=candidates,
              inside_unordered=n_inside, body_needed=n_inside, steps=tiles, body_steps=body_tiles,

@@ -27,11 +27,14 @@ __device__ unsigned hash(unsigned x) {
 // two tiles a listed cluster): as after the 8-lane reductions.
 template <bool Shared>
 __global__ void add_kernel(unsigned long long* acc, unsigned clusters, int listed, unsigned window) {
-    __shared__ unsigned long long slots[warps_per_block * 16 * cluster * quantities / 4];  // 8 KB
+    // A block of 8 clusters lists at most 157 clusters (the counts' block8_union_max at dp 0.01):
+    // 160 x 8 j's x 4 quantities, 40 KB; j's slot here is j modulo that, not the union's index.
+    __shared__ unsigned long long slots[160 * cluster * quantities];
     const unsigned warp = (blockIdx.x * blockDim.x + threadIdx.x) / 32, lane = threadIdx.x % 32;
-    if (warp >= clusters) return;
     const unsigned slot_count = sizeof(slots) / sizeof(slots[0]);
-    for (int k = 0; k < listed; ++k) {
+    // No early return: the shared variant's warps all meet at __syncthreads below.
+    const int walk = warp < clusters ? listed : 0;
+    for (int k = 0; k < walk; ++k) {
         const unsigned offset = hash(warp * 131u + unsigned(k)) % (2 * window + 1);
         unsigned j_cluster = warp + offset > window ? warp + offset - window : 0;
         if (j_cluster >= clusters) j_cluster = clusters - 1;
