@@ -10,9 +10,10 @@ Errors, the same for every code:
       the probe at x = 1.488 and its H3 the one at x = 0.496, and they are read so. A water-level
       gauge with no fluid on its line (a dry probe) reads nan in our CSV and the floor in
       DualSPHysics': both count as 0 m.
-  pressures (ours only: DualSPHysics' case has no pressure gauge): both series resampled to
-      1 ms and smoothed by the same centred 5 ms moving average (SPH pressures are noisy at the
-      time step; the measurement is sampled every ms); a sensor with no fluid over it reads 0.
+  pressures (ours only: DualSPHysics' case has no pressure gauge): both series filtered by the
+      same centred 5 ms mean, the integral of the linearly interpolated series over each window
+      (SPH pressures are noisy at the time step; the measurement is sampled every ms), read on a
+      1 ms grid; a sensor with no fluid over it reads 0.
       P1-P4: the first impact's peak (the largest value in 0.3-0.8 s) and its time against the
       measured one; and its impulse, the integral of the pressure over the 100 ms from its arrival
       (the first time in 0.3-0.8 s the series passes a fifth of its own first peak), against the
@@ -77,17 +78,54 @@ def water_height_rms(t, h, measured, end):
     return float(np.sqrt(np.mean((sim - m[:, 1]) ** 2)) / COLUMN_HEIGHT)
 
 
+def window_means(t, p, centres, width):
+    """The mean of the piecewise-linear series (t, p) over [c - width/2, c + width/2] for each c in
+    centres: its integral over each window (exact for the linear pieces), divided by the width.
+    Outside the series its end values hold. Unlike an average of point samples, this is the
+    signal's mean whatever the sampling: a series sampled at every step and one sampled every ms
+    of the same signal give the same means, up to what the coarser one missed between samples."""
+    t = np.asarray(t, float)
+    p = np.asarray(p, float)
+    lo, hi = centres[0] - width, centres[-1] + width
+    if t[0] > lo:
+        t, p = np.concatenate([[lo], t]), np.concatenate([[p[0]], p])
+    if t[-1] < hi:
+        t, p = np.concatenate([t, [hi]]), np.concatenate([p, [p[-1]]])
+    dt = np.diff(t)
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (p[1:] + p[:-1]) * dt)])
+
+    def integral_to(x):
+        k = np.clip(np.searchsorted(t, x, side="right") - 1, 0, len(t) - 2)
+        u = x - t[k]
+        slope = np.where(dt[k] > 0, (p[k + 1] - p[k]) / np.where(dt[k] > 0, dt[k], 1.0), 0.0)
+        return cumulative[k] + p[k] * u + 0.5 * slope * u * u
+
+    return (integral_to(centres + width / 2) - integral_to(centres - width / 2)) / width
+
+
 def smoothed(t, p, end):
-    """A pressure series on a 1 ms grid over [0, end], nan as 0, after the centred moving average."""
+    """A pressure series on a 1 ms grid over [0, end], nan as 0: the centred 5 ms mean of the
+    signal at each grid time (window_means: the integral over the window, not an average of
+    point samples, so that a series sampled at every step is filtered as the same signal
+    sampled every ms is)."""
     grid = np.arange(0.0, end + RESAMPLE_DT / 2, RESAMPLE_DT)
     t = np.asarray(t, float)
     p = np.nan_to_num(np.asarray(p, float), nan=0.0)
     ok = np.isfinite(t)
-    on_grid = np.interp(grid, t[ok], p[ok])
-    width = max(1, int(round(SMOOTH_S / RESAMPLE_DT)))
-    kernel = np.ones(width) / width
-    padded = np.pad(on_grid, (width // 2, width - 1 - width // 2), mode="edge")
-    return grid, np.convolve(padded, kernel, mode="valid")
+    t, p = t[ok], p[ok]
+    order = np.argsort(t, kind="stable")
+    return grid, window_means(t[order], p[order], grid, SMOOTH_S)
+
+
+def point_sampled(t, p, every=RESAMPLE_DT):
+    """The series as a gauge sampled every `every` seconds would have read it: the first sample at
+    or after each multiple of `every` (the harness's rule), for comparing a run sampled at every
+    step with its 1 ms readings."""
+    t = np.asarray(t, float)
+    p = np.asarray(p, float)
+    ticks = np.arange(t[0], t[-1] + 1e-6 * every, every)
+    k = np.unique(np.clip(np.searchsorted(t, ticks - 1e-6 * every, side="left"), 0, len(t) - 1))
+    return t[k], p[k]
 
 
 def first_peak(grid, p):

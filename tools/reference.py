@@ -244,6 +244,11 @@ def run_spheric2(ctx, d):
             tool(ctx, "sphbench-f64"), "--out", d, "--quiet"], log=d / "spheric2.log")
 
 
+def run_spheric2_p1_sampling(ctx, d):
+    ctx.sh([tool(ctx, "sphbench"), "run", "experiments/spheric2-p1-sampling.toml", "--backend", "cuda", "--out", d,
+            "--quiet"], log=d / "spheric2-p1-sampling.log")
+
+
 def run_spheric2_dualsphysics(ctx, d):
     """DualSPHysics on SPHERIC Test 2 at our spacings, to SPHERIC2_END_S (its spheric2/make_case.sh, GenCase on
     the CPU): run time per simulated second and the water heights of its gauges at H1-H4."""
@@ -495,6 +500,10 @@ def items(gpus=1):
              "float64 build too)", "single", 420, ["sphbench", "sphbench-f64"], run_spheric2,
              inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2/runs.csv"]),
+        Item("spheric2-p1-sampling", "SPHERIC Test 2's first impact on P1-P4 sampled at every step, three spacings "
+             "to 0.6 s (experiments/spheric2-p1-sampling.toml)", "single", 90, ["sphbench"], run_spheric2_p1_sampling,
+             inputs=["experiments/spheric2-p1-sampling.toml", "experiments/cases/spheric-test2.toml"],
+             outputs=["spheric2-p1-sampling/runs.csv"]),
         # sphbench in its stamp, as the dam breaks': DualSPHysics reruns beside every new build of ours.
         Item("spheric2-dualsphysics", "DualSPHysics v5.4 on SPHERIC Test 2 at the same spacings, to 6 s at dp 0.02 "
              "and 0.01, 2 s at 0.0075", "single", 420, ["sphbench"], run_spheric2_dualsphysics,
