@@ -578,7 +578,7 @@ def spheric2(folder, dsph_folder):
                     "Pareto front"],
                  rows, sources,
                  ["Water heights: RMS over 0-2 s against the MARIN measurements, relative to 0.55 m (the measured "
-                  "file's H1 and H3 swapped back); for the runs to 6 s also the mean over 0-6 s ('-': a run to 2 s). P1: 5 ms moving average on ours and the measurement alike, the "
+                  "file's H1 and H3 swapped back); for the runs to 6 s also the mean over 0-6 s ('-': a run to 2 s). P1: the centred 5 ms mean (the integral over each window) on ours and the measurement alike, the "
                   "largest value in 0.3-0.8 s; its impulse, the integral over 100 ms from the arrival (a fifth of the "
                   "first peak). `plots/spheric2.py` says how each error is computed."])
 
@@ -601,7 +601,7 @@ def spheric2_box_load(folder, dsph_folder):
                  rows, sources,
                  ["The load: minus the x force of the water on the box (ours: the force gauge `box`, every 5 ms; "
                   "DualSPHysics: its GaugesForce_Box, every 5 ms). The measurement has no force: its row is the mean "
-                  "of P1-P4 (5 ms moving average) times the face's area (0.403 x 0.161 m), taking the centre line's "
+                  "of P1-P4 (their centred 5 ms means) times the face's area (0.403 x 0.161 m), taking the centre line's "
                   "pressure for the face's whole width, and only the face toward the reservoir (so no mean after "
                   "0.8 s, when water presses on the back face too). The arrival: the first time the load passes a "
                   "fifth of its largest value (`plots/spheric2.py`)."])

@@ -50,7 +50,7 @@ IMPACT_WINDOW = (0.3, 0.8)  # s: the first impact on the box's face (measured P1
 IMPULSE_S = 0.1             # s: the first impact's impulse is integrated over this long from its arrival
 ARRIVAL_FRACTION = 0.2      # the arrival: the series first passes this fraction of its first peak
 RESAMPLE_DT = 0.001        # s
-SMOOTH_S = 0.005           # s, the centred moving average applied to every pressure series
+SMOOTH_S = 0.005           # s, the width of the centred mean applied to every pressure series
 DSPH_COLOUR, OUR_COLOUR = "#d95f02", "#1f77b4"
 
 
@@ -169,6 +169,9 @@ def first_ringing(t, p):
 
 
 LONG_END = 6.0  # s: a run this long also has its water heights' errors over 0 to 6 s
+# A gauge's last sample may fall short of the run's end by up to its interval (DualSPHysics' last,
+# every 5 ms, is at 5.995 s of a run to 6 s); such a run still counts as one to LONG_END.
+LONG_END_SLACK_S = 0.01
 
 
 def run_errors(series, measured, end, sim_time=None):
@@ -176,7 +179,7 @@ def run_errors(series, measured, end, sim_time=None):
     (or less for a shorter run); a run of at least LONG_END (sim_time) also gets <probe>_rms_6s
     and H_rms_mean_6s, nan otherwise."""
     row = {}
-    long_run = sim_time is not None and sim_time >= LONG_END - 1e-6
+    long_run = sim_time is not None and sim_time >= LONG_END - LONG_END_SLACK_S
     for probe in PROBES:
         t, h = series[probe]
         row[f"{probe}_rms"] = water_height_rms(t, h, measured[["time", probe]], end)
@@ -387,7 +390,7 @@ def box_load_row(code, run, dp, t, fx, net=True):
 def box_loads(results, dualsphysics, measured):
     """One row per run with a force on the box (ours: the gauge box_x of <run>_gauges.csv;
     DualSPHysics: forcex of CASE.GaugesForce_Box.csv), and one for the measurement: the mean of
-    P1-P4 (the face's centre line, 5 ms moving average) times the face's area, an estimate that
+    P1-P4 (the face's centre line, centred 5 ms means) times the face's area, an estimate that
     takes the centre line's pressure for the whole width."""
     rows = []
     runs, _ = sphplot.load_runs(results, NAME)
@@ -528,8 +531,8 @@ def main(argv=None):
     csv = args.out / f"{NAME}.csv"
     with open(csv, "w", encoding="utf-8") as f:
         f.writelines(f"# {k}: {v}\n" for k, v in meta.items())
-        f.write(f"# filter: pressures resampled to {RESAMPLE_DT * 1e3:g} ms and a centred {SMOOTH_S * 1e3:g} ms "
-                f"moving average, every code and the measurement alike\n")
+        f.write(f"# filter: pressures as their centred {SMOOTH_S * 1e3:g} ms means (the integral over each window) "
+                f"read every {RESAMPLE_DT * 1e3:g} ms, every code and the measurement alike\n")
         data.to_csv(f, index=False)
     print(f"wrote {sphplot._shown(csv)}")
     sphplot.apply_style()
