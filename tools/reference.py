@@ -500,8 +500,8 @@ def items(gpus=1):
              "float64 build too)", "single", 420, ["sphbench", "sphbench-f64"], run_spheric2,
              inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2/runs.csv"]),
-        Item("spheric2-p1-sampling", "SPHERIC Test 2's first impact on P1-P4 sampled at every step, three spacings "
-             "to 0.6 s (experiments/spheric2-p1-sampling.toml)", "single", 90, ["sphbench"], run_spheric2_p1_sampling,
+        Item("spheric2-p1-sampling", "SPHERIC Test 2's first impact on P1-P4 sampled at every step, four spacings "
+             "to 0.6 s (experiments/spheric2-p1-sampling.toml)", "single", 300, ["sphbench"], run_spheric2_p1_sampling,
              inputs=["experiments/spheric2-p1-sampling.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2-p1-sampling/runs.csv"]),
         # sphbench in its stamp, as the dam breaks': DualSPHysics reruns beside every new build of ours.
