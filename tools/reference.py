@@ -249,6 +249,11 @@ def run_spheric2_p1_sampling(ctx, d):
             "--quiet"], log=d / "spheric2-p1-sampling.log")
 
 
+def run_spheric2_p1_finest(ctx, d):
+    ctx.sh([tool(ctx, "sphbench"), "run", "experiments/spheric2-p1-finest.toml", "--backend", "cuda", "--out", d,
+            "--quiet"], log=d / "spheric2-p1-finest.log")
+
+
 def run_spheric2_dualsphysics(ctx, d):
     """DualSPHysics on SPHERIC Test 2 at our spacings, to SPHERIC2_END_S (its spheric2/make_case.sh, GenCase on
     the CPU): run time per simulated second and the water heights of its gauges at H1-H4."""
@@ -504,6 +509,10 @@ def items(gpus=1):
              "to 0.6 s (experiments/spheric2-p1-sampling.toml)", "single", 300, ["sphbench"], run_spheric2_p1_sampling,
              inputs=["experiments/spheric2-p1-sampling.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2-p1-sampling/runs.csv"]),
+        Item("spheric2-p1-finest", "SPHERIC Test 2's first impact on P1-P4 at dp 0.004 (11.5M particles) to 0.55 s "
+             "(experiments/spheric2-p1-finest.toml)", "single", 420, ["sphbench"], run_spheric2_p1_finest,
+             inputs=["experiments/spheric2-p1-finest.toml", "experiments/cases/spheric-test2.toml"],
+             outputs=["spheric2-p1-finest/runs.csv"]),
         # sphbench in its stamp, as the dam breaks': DualSPHysics reruns beside every new build of ours.
         Item("spheric2-dualsphysics", "DualSPHysics v5.4 on SPHERIC Test 2 at the same spacings, to 6 s at dp 0.02 "
              "and 0.01, 2 s at 0.0075", "single", 420, ["sphbench"], run_spheric2_dualsphysics,
