@@ -303,19 +303,20 @@ def spheric2_heights(folder):
 
 def spheric2_p1(folder):
     """P1's first impact at our finest spacing against the measured peak: the finest run of
-    spheric2/ and of spheric2-p1-sampling/ (the impact alone, to 0.6 s, at a spacing whose 2 s
-    would not fit a command) where that folder is there."""
+    spheric2/, spheric2-p1-sampling/ and spheric2-p1-finest/ (the impact alone, to 0.55-0.6 s, at
+    spacings whose 2 s would not fit a command) where those folders are there."""
     module, data, meta = _spheric2(folder)
     candidates = []
     r = module.finest_p1(data)
     if r is not None:
         candidates.append((r, meta))
-    sampling = folder / "spheric2-p1-sampling"
-    if (sampling / "runs.csv").is_file():
-        rows, _, _, sampling_meta = module.our_runs(sampling, module.read_measured(module.MEASURED))
-        r = module.finest_p1(module.pd.DataFrame(rows))
-        if r is not None:
-            candidates.append((r, sampling_meta))
+    for impact_only in ("spheric2-p1-sampling", "spheric2-p1-finest"):
+        sampling = folder / impact_only
+        if (sampling / "runs.csv").is_file():
+            rows, _, _, sampling_meta = module.our_runs(sampling, module.read_measured(module.MEASURED))
+            r = module.finest_p1(module.pd.DataFrame(rows))
+            if r is not None:
+                candidates.append((r, sampling_meta))
     if not candidates:
         raise Missing("no P1 series")
     r, meta = min(candidates, key=lambda c: (float(c[0]["dp"]), float(c[0]["s_per_sim_s"])))

@@ -631,7 +631,7 @@ def spheric2_sound_speed(folder):
                   "(`plots/spheric2.py`)."])
 
 
-def spheric2_p1_sampling(folder):
+def spheric2_p1_sampling(folder, finest_folder=None):
     """SPHERIC Test 2's first impact on P1 read from a gauge sampled at every step
     (experiments/spheric2-p1-sampling.toml) and from the same run's 1 ms point samples (what the
     spheric2 spec's gauge reads): the unfiltered peak, the 5 ms mean's peak and the impulse each
@@ -640,13 +640,18 @@ def spheric2_p1_sampling(folder):
     import spheric2 as sp2
     folder = need(folder)
     measured = sp2.read_measured(sp2.MEASURED)
-    runs, meta = sphplot.load_runs(folder, "spheric2-p1-sampling")
+    sources = [from_meta(folder, sphplot.load_runs(folder)[1])]
+    folders = [folder]
+    if finest_folder is not None and Path(finest_folder, "runs.csv").is_file():
+        folders.append(Path(finest_folder))
+        sources.append(from_meta(Path(finest_folder), sphplot.load_runs(finest_folder)[1]))
     grid_m, meas = sp2.smoothed(measured["time"], measured["P1"], 0.8)
     mpeak, mwhen = sp2.first_peak(grid_m, meas)
     mimpulse, _ = sp2.first_impulse(grid_m, meas)
     rows = []
-    for _, run in runs.iterrows():
-        path = Path(runs.attrs["path"]).parent / f"{run['run_id']}_gauges.csv"
+    every_run = [(f, run) for f in folders for _, run in sphplot.load_runs(f)[0].iterrows()]
+    for run_folder, run in sorted(every_run, key=lambda fr: -float(fr[1]["dp"])):
+        path = Path(run_folder) / f"{run['run_id']}_gauges.csv"
         t, p = sp2.read_our_gauges(path)["P1"]
         cells = [run["run_id"], thousands(int(run["particles"])), f"{1e6 * float(np.median(np.diff(t))):.0f}"]
         for series in ((t, p), sp2.point_sampled(t, p)):
@@ -664,8 +669,9 @@ def spheric2_p1_sampling(folder):
                   "impulse Pa s (vs measured)",
                   "every 1 ms: unfiltered peak kPa", "ringing period ms", "5 ms mean peak kPa (vs measured)",
                   "impulse Pa s (vs measured)"],
-                 rows, [from_meta(folder, meta)],
-                 ["Wendland with Verlet lists (skin 0.1), from rest to 0.6 s, P1 (0.015 m off the box's face at "
+                 rows, sources,
+                 ["Wendland with Verlet lists (skin 0.1), from rest to 0.6 s (dp 0.004: to 0.55 s, "
+                  "experiments/spheric2-p1-finest.toml), P1 (0.015 m off the box's face at "
                   "z = 0.021) sampled at every step. The 1 ms columns read the same run's series as a gauge "
                   "sampled every 1 ms would (the first step at or after each ms: `point_sampled`). The 5 ms mean: "
                   "the integral of the linearly interpolated series over each centred 5 ms window, the same "
