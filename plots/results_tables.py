@@ -640,16 +640,15 @@ def spheric2_p1_sampling(folder, finest_folder=None):
     import spheric2 as sp2
     folder = need(folder)
     measured = sp2.read_measured(sp2.MEASURED)
-    sources = [from_meta(folder, sphplot.load_runs(folder)[1])]
-    folders = [folder]
-    if finest_folder is not None and Path(finest_folder, "runs.csv").is_file():
-        folders.append(Path(finest_folder))
-        sources.append(from_meta(Path(finest_folder), sphplot.load_runs(finest_folder)[1]))
+    folders = [folder] + ([Path(finest_folder)] if finest_folder is not None and Path(finest_folder, "runs.csv").is_file()
+                          else [])
+    loaded = [(f, *sphplot.load_runs(f)) for f in folders]
+    sources = [from_meta(f, meta) for f, _, meta in loaded]
     grid_m, meas = sp2.smoothed(measured["time"], measured["P1"], 0.8)
     mpeak, mwhen = sp2.first_peak(grid_m, meas)
     mimpulse, _ = sp2.first_impulse(grid_m, meas)
     rows = []
-    every_run = [(f, run) for f in folders for _, run in sphplot.load_runs(f)[0].iterrows()]
+    every_run = [(f, run) for f, runs, _ in loaded for _, run in runs.iterrows()]
     for run_folder, run in sorted(every_run, key=lambda fr: -float(fr[1]["dp"])):
         path = Path(run_folder) / f"{run['run_id']}_gauges.csv"
         t, p = sp2.read_our_gauges(path)["P1"]

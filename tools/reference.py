@@ -244,16 +244,6 @@ def run_spheric2(ctx, d):
             tool(ctx, "sphbench-f64"), "--out", d, "--quiet"], log=d / "spheric2.log")
 
 
-def run_spheric2_p1_sampling(ctx, d):
-    ctx.sh([tool(ctx, "sphbench"), "run", "experiments/spheric2-p1-sampling.toml", "--backend", "cuda", "--out", d,
-            "--quiet"], log=d / "spheric2-p1-sampling.log")
-
-
-def run_spheric2_p1_finest(ctx, d):
-    ctx.sh([tool(ctx, "sphbench"), "run", "experiments/spheric2-p1-finest.toml", "--backend", "cuda", "--out", d,
-            "--quiet"], log=d / "spheric2-p1-finest.log")
-
-
 def run_spheric2_dualsphysics(ctx, d):
     """DualSPHysics on SPHERIC Test 2 at our spacings, to SPHERIC2_END_S (its spheric2/make_case.sh, GenCase on
     the CPU): run time per simulated second and the water heights of its gauges at H1-H4."""
@@ -506,11 +496,12 @@ def items(gpus=1):
              inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2/runs.csv"]),
         Item("spheric2-p1-sampling", "SPHERIC Test 2's first impact on P1-P4 sampled at every step, four spacings "
-             "to 0.6 s (experiments/spheric2-p1-sampling.toml)", "single", 300, ["sphbench"], run_spheric2_p1_sampling,
+             "to 0.6 s (experiments/spheric2-p1-sampling.toml)", "single", 300, ["sphbench"],
+             sphbench_run("spheric2-p1-sampling"),
              inputs=["experiments/spheric2-p1-sampling.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2-p1-sampling/runs.csv"]),
         Item("spheric2-p1-finest", "SPHERIC Test 2's first impact on P1-P4 at dp 0.004 (11.5M particles) to 0.55 s "
-             "(experiments/spheric2-p1-finest.toml)", "single", 420, ["sphbench"], run_spheric2_p1_finest,
+             "(experiments/spheric2-p1-finest.toml)", "single", 450, ["sphbench"], sphbench_run("spheric2-p1-finest"),
              inputs=["experiments/spheric2-p1-finest.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2-p1-finest/runs.csv"]),
         # sphbench in its stamp, as the dam breaks': DualSPHysics reruns beside every new build of ours.
