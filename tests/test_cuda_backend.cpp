@@ -125,30 +125,87 @@ TEST_P(CudaVariants, MatchTheHostBackendAfterNSteps) {
 }
 
 // A variant that changes only how the GPU stores the same lists gives the default's particles
-// bit for bit: list_build = per-lane builds the same entries in the same order (change 9 of
-// docs/force-loop-notes.md: 3000 steps the same to the bit).
+// bit for bit: list_build = per-lane (build_particle_list, the host's build) and in-step build
+// the same entries in the same order as the default's warp per cell (changes 9 and 22 of
+// docs/force-loop-notes.md).
 // (The other variants change the sums' arithmetic or order: the test above holds them to the host.)
-TEST(CudaBackend, PerLaneListBuildMatchesTheDefaultBitwise) {
+TEST(CudaBackend, ListBuildVariantsMatchTheDefaultBitwise) {
     if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
-    ImplementationVariants v;
-    v.list_build = ListBuildVariant::per_lane;
     const Scene s = test::small_dambreak("0.02");
-    // Half cells unmerged too: the benchmarks' lists (--verlet --cells-per-support 2).
-    for (const SearchOptions search :
-         {SearchOptions{1, false, true}, SearchOptions{2, false, true}, SearchOptions{2, true, true}}) {
-        SolverOptions base, variant;
-        base.backend = variant.backend = BackendKind::cuda;
-        base.search = variant.search = search;
-        base.fixed_dt = variant.fixed_dt = 1.4e-4;
-        variant.variants = v;
-        Simulation a(s, base), b(s, variant);
-        test::step_both(a, b, 200);
-        const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
-        std::size_t differ = 0;
-        for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
-        std::printf("cuda, %s against the defaults, n = %d, merge = %d, Verlet lists, 200 steps: %zu particles differ\n",
-                    describe_implementation_variants(v).c_str(), search.cells_per_support, int(search.merge), differ);
-        EXPECT_EQ(differ, 0u);
+    for (const ListBuildVariant build : {ListBuildVariant::per_lane, ListBuildVariant::in_step}) {
+        ImplementationVariants v;
+        v.list_build = build;
+        // Half cells unmerged too: the benchmarks' lists (--verlet --cells-per-support 2);
+        // thirds take the in-step build under auto (49 columns).
+        for (const SearchOptions search : {SearchOptions{1, false, true}, SearchOptions{2, false, true},
+                                           SearchOptions{2, true, true}, SearchOptions{3, true, true}}) {
+            SolverOptions base, variant;
+            base.backend = variant.backend = BackendKind::cuda;
+            base.search = variant.search = search;
+            base.fixed_dt = variant.fixed_dt = 1.4e-4;
+            variant.variants = v;
+            Simulation a(s, base), b(s, variant);
+            test::step_both(a, b, 200);
+            const auto pa = test::positions_by_id(a.snapshot()), pb = test::positions_by_id(b.snapshot());
+            std::size_t differ = 0;
+            for (std::size_t i = 0; i < pa.size(); ++i) differ += pa[i] != pb[i];
+            std::printf("cuda, %s against the defaults, n = %d, merge = %d, Verlet lists, 200 steps: %zu particles "
+                        "differ\n",
+                        describe_implementation_variants(v).c_str(), search.cells_per_support, int(search.merge),
+                        differ);
+            EXPECT_EQ(differ, 0u);
+        }
+    }
+}
+
+// The builds on fresh random clouds with walls, open and periodic in x and y (the warp per
+// cell wraps its columns there; a periodic z takes the in-step build): the listed forces of
+// each build bitwise the per-lane build's, and within rounding the host backend's (whose
+// lists are brute force's within the support: test_neighbours.cpp).
+TEST(CudaBackend, ListBuildsGiveTheSameForcesOnRandomClouds) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    for (const bool periodic : {false, true}) {
+        Scene s = test::random_scene(3000, 600, 0.3, 0.02, periodic ? 17u : 23u, periodic ? 0.0 : 0.04, 0.5);
+        if (periodic) s.periodic = {true, true, false};
+        for (const SearchOptions search :
+             {SearchOptions{1, false, true}, SearchOptions{2, false, true}, SearchOptions{2, true, true}}) {
+            const Grid g = make_grid(s.lo.data(), s.hi.data(), search_reach(s.params.support, search),
+                                     search.cells_per_support, s.periodic.data());
+            auto forces = [&](bool cuda, ListBuildVariant build) {
+                SubdomainConfig cfg{s.params, g.view, s.kernel, true, search};
+                cfg.variants.list_build = build;
+                auto d = cuda ? make_cuda_subdomain(cfg, s.size(), 0) : make_host_subdomain(cfg, s.size());
+                d->upload(make_particle_arrays(s, g));
+                d->sort_by_cell();
+                d->advance(euler_step(0));
+                d->build_neighbour_list(real(search.skin) * s.params.support);
+                d->compute_forces_listed();
+                const ParticleArrays a = d->download();
+                std::vector<real4> by_id(a.id.size());
+                for (std::size_t i = 0; i < a.id.size(); ++i) by_id[a.id[i]] = a.force[i];
+                return by_id;
+            };
+            const auto reference = forces(true, ListBuildVariant::per_lane), host = forces(false, {});
+            for (const ListBuildVariant build : {ListBuildVariant::automatic, ListBuildVariant::in_step}) {
+                const auto f = forces(true, build);
+                ASSERT_EQ(f.size(), reference.size());
+                std::size_t differ = 0;
+                for (std::size_t i = 0; i < f.size(); ++i)
+                    differ += std::memcmp(&f[i], &reference[i], sizeof(real4)) != 0;
+                EXPECT_EQ(differ, 0u) << "list_build " << int(build) << ", periodic " << periodic << ", n = "
+                                      << search.cells_per_support << ", merge = " << search.merge;
+            }
+            double err = 0, norm = 0;
+            for (std::size_t i = 0; i < host.size(); ++i) {
+                const double e[4] = {host[i].x - reference[i].x, host[i].y - reference[i].y,
+                                     host[i].z - reference[i].z, host[i].w - reference[i].w};
+                for (double x : e) err += x * x;
+                norm += double(host[i].x) * host[i].x + double(host[i].y) * host[i].y +
+                        double(host[i].z) * host[i].z + double(host[i].w) * host[i].w;
+            }
+            EXPECT_GT(norm, 0.0);
+            EXPECT_LT(std::sqrt(err / norm), 1e-5) << "periodic " << periodic << ", n = " << search.cells_per_support;
+        }
     }
 }
 

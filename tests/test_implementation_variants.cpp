@@ -82,7 +82,7 @@ TEST(ImplementationVariants, EveryValueIsSetByNameAndReadBack) {
 TEST(ImplementationVariants, AnUnknownNameOrValueIsOneSentenceNamingIt) {
     ImplementationVariants v;
     const std::string value = error_of(v, "list_build", "per-warp");
-    EXPECT_EQ(value, "list_build: 'per-warp' is not one of \"auto\" or \"per-lane\"");
+    EXPECT_EQ(value, "list_build: 'per-warp' is not one of \"auto\", \"per-lane\" or \"in-step\"");
     const std::string name = error_of(v, "force_loops", "auto");
     EXPECT_EQ(name, "unknown implementation variant 'force_loops' (known: \"force_loop\", \"list_build\" or "
                     "\"list_entries\")");

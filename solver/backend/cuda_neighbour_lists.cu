@@ -94,6 +94,112 @@ __global__ void __launch_bounds__(block_size)
     if (valid) count[i] = n;
 }
 
+// The same lists, built by one warp per cell (change 22). The particles of a cell share their
+// stencil: its (2n+1)^2 columns, each one contiguous range of the sorted particles on an open z
+// (a column's cells are consecutive), in the order visit_ranges() reads them. The warp's lanes
+// take 32 consecutive candidates of the columns laid end to end, each loaded once for all of
+// the cell's particles; then, particle by particle, every lane tests its candidate and a
+// ballot gives each kept entry its slot (the particle's count so far plus the kept lanes below
+// it), so a particle's entries come in the stencil's order, as the other builds store them:
+// the same lists. A wall lists fluid only: in each cell the walls come first (the sort), so
+// dropping wall candidates leaves the fluid of every cell in the same order as the ranges
+// from fluid_begin. The lane-per-particle builds ran at ~19 of 32 threads active (ranges of
+// different lengths, hits stored one lane at a time) and ~1,370 warp instructions a particle
+// (change 17's ncu); here the tests run on full warps and each candidate's loads serve every
+// particle of its cell. Stencils of at most 32 columns (n <= 2); not for a periodic z (its
+// columns wrap, so they are not one range each), where the driver keeps the in-step build.
+template <class Search, bool CellOffsets>
+__global__ void __launch_bounds__(block_size)
+    build_lists_by_cell_kernel(ForceInputs in, real reach2, std::uint32_t* index, std::uint32_t* count,
+                               std::uint32_t stride, std::uint32_t capacity, ActiveRange range) {
+    constexpr int N = Search::n;
+    constexpr int side = 2 * N + 1;
+    static_assert(side * side <= 32, "one lane a stencil column");
+    const GridView& g = in.grid;
+    const std::uint32_t cell = (blockIdx.x * blockDim.x + threadIdx.x) / 32;
+    const int lane = int(threadIdx.x % 32);
+    if (cell >= g.cell_count()) return;  // the whole warp
+    const std::uint32_t first = max(in.cell_start[cell], *range.begin);
+    const std::uint32_t last = min(in.cell_start[cell + 1], *range.end);
+    if (first >= last) return;  // an empty cell, or none of its particles is built here
+    const int3v c = g.decode(cell);
+    // Lane k < side^2 holds stencil column k = (dx, dy), in visit_ranges()' order (dx outer):
+    // its candidates [b, e) and the cell index that gives a candidate's dz (cell[j] - ref).
+    int dx = lane / side - N, dy = lane % side - N;
+    std::uint32_t b = 0, e = 0;
+    int ref = 0;
+    if (lane < side * side) {
+        int x = c.x + dx, y = c.y + dy;
+        bool ok = true;
+        if (x < 0 || x >= g.nx) {
+            if (g.periodic_x) x = wrap_index(x, g.nx);
+            else ok = false;
+        }
+        if (y < 0 || y >= g.ny) {
+            if (g.periodic_y) y = wrap_index(y, g.ny);
+            else ok = false;
+        }
+        if (ok) {
+            const std::uint32_t column = g.encode(x, y, 0);
+            const int z0 = c.z - N < 0 ? 0 : c.z - N, z1 = c.z + N >= g.nz ? g.nz - 1 : c.z + N;
+            b = in.cell_start[column + z0];
+            e = in.cell_start[column + z1 + 1];
+            ref = int(column) + c.z;
+        }
+    }
+    // The columns end to end: lane k's exclusive prefix of the lengths (the lanes past the
+    // stencil hold empty columns at the total, which no candidate index reaches).
+    std::uint32_t prefix = e - b;
+    for (int d = 1; d < 32; d *= 2) {
+        const std::uint32_t below = __shfl_up_sync(full_warp, prefix, d);
+        if (lane >= d) prefix += below;
+    }
+    const std::uint32_t total = __shfl_sync(full_warp, prefix, 31);
+    const std::uint32_t before = prefix - (e - b);
+    const std::uint32_t fluid_first = in.fluid_begin[cell];
+    const bool walls_here = first < fluid_first;  // the cell's walls come first
+    const std::uint32_t below_me = (1u << lane) - 1;
+    const std::size_t chunk_stride = std::size_t(stride) * sizeof(ListChunk);  // bytes from a row's chunk c to c + 1
+    for (std::uint32_t group = first; group < last; group += 32) {
+        const std::uint32_t members = min(last - group, 32u);
+        std::uint32_t n = 0;  // lane q: the entries of particle group + q so far
+        for (std::uint32_t t0 = 0; t0 < total; t0 += 32) {
+            const std::uint32_t t = t0 + std::uint32_t(lane);
+            // The column holding candidate t: the last k whose prefix is at most t.
+            int k = 0;
+#pragma unroll
+            for (int step = 16; step > 0; step /= 2) {
+                const std::uint32_t at = __shfl_sync(full_warp, before, k + step);
+                if (at <= t) k += step;
+            }
+            const bool candidate = t < total;
+            const std::uint32_t j = candidate ? __shfl_sync(full_warp, b, k) + (t - __shfl_sync(full_warp, before, k)) : first;
+            const int jdx = __shfl_sync(full_warp, dx, k), jdy = __shfl_sync(full_warp, dy, k);
+            const int jdz = int(in.cell[j]) - __shfl_sync(full_warp, ref, k);
+            const real4 pj = in.pos[j];
+            const bool wall_j = walls_here && is_boundary(in.velrho[j]);
+            const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, jdx, jdy, jdz) : j;
+#pragma unroll 4
+            for (std::uint32_t q = 0; q < members; ++q) {
+                const std::uint32_t i = group + q;
+                const real3 rij = separation(in.pos[i], pj, jdx, jdy, jdz, g.cell_size);
+                // One test of every condition, no short cuts: a branch per particle otherwise.
+                const bool keep = candidate & (j != i) & (dot(rij, rij) < reach2) & !(wall_j & (i < fluid_first));
+                const std::uint32_t kept = __ballot_sync(full_warp, keep);
+                const std::uint32_t slot = __shfl_sync(full_warp, n, int(q)) + std::uint32_t(__popc(kept & below_me));
+                // list_slot(slot, i, stride) as a byte address: i's chunk 0 (the same on every
+                // lane) plus slot / 4 chunk strides, one wide multiply-add.
+                char* row = reinterpret_cast<char*>(index) + std::size_t(i) * sizeof(ListChunk);
+                std::uint32_t* at = reinterpret_cast<std::uint32_t*>(row + std::size_t(slot / list_chunk) * chunk_stride) +
+                                    slot % list_chunk;
+                if (keep & (slot < capacity)) *at = entry;
+                if (std::uint32_t(lane) == q) n += std::uint32_t(__popc(kept));
+            }
+        }
+        if (std::uint32_t(lane) < members) count[group + std::uint32_t(lane)] = n;
+    }
+}
+
 // The listed loop: one thread per particle over its stored list, cells read as coordinates.
 template <class Kernel, bool Diffusion, class Policy>
 __global__ void __launch_bounds__(Policy::block_size, Policy::min_blocks)
@@ -132,13 +238,24 @@ bool lists_take_cell_offsets(const SubdomainConfig& cfg, std::uint32_t n) {
            bound <= 0xffffffffu && ListEntry::fits(std::uint32_t(bound), cfg.search.cells_per_support);
 }
 
-// list_build = per-lane builds lane by lane (build_lists_kernel) where the policy walks in
-// step: the build merged z-runs across a periodic z face need, selectable to test it anywhere.
+// list_build = auto builds by cell (stencils of at most 32 columns on an open z), else with the
+// lanes in step; in-step is that fallback, per-lane (build_lists_kernel) the build merged
+// z-runs across a periodic z face need; each selectable to test it anywhere.
 template <class Search, bool CellOffsets>
 void launch_list_build(const SubdomainConfig& cfg, const ForceInputs& in, real reach2, std::uint32_t* index,
                        std::uint32_t* count, std::uint32_t stride, std::uint32_t capacity, ActiveRange range,
                        std::uint32_t n, cudaStream_t s) {
-    const bool in_step = ListedLoopPolicy::build_in_step && cfg.variants.list_build == ListBuildVariant::automatic;
+    const ListBuildVariant v = cfg.variants.list_build;
+    if constexpr ((2 * Search::n + 1) * (2 * Search::n + 1) <= 32) {
+        if (v == ListBuildVariant::automatic && !in.grid.periodic_z) {
+            const std::uint32_t warps_per_block = block_size / 32;
+            const std::uint32_t blocks = (in.grid.cell_count() + warps_per_block - 1) / warps_per_block;
+            build_lists_by_cell_kernel<Search, CellOffsets>
+                <<<blocks, block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);
+            return;
+        }
+    }
+    const bool in_step = ListedLoopPolicy::build_in_step && v != ListBuildVariant::per_lane;
     if (in_step && !(Search::merge && in.grid.periodic_z))
         build_lists_in_step_kernel<Search, CellOffsets>
             <<<blocks_for(n), block_size, 0, s>>>(in, reach2, index, count, stride, capacity, range);

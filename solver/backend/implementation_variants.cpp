@@ -27,9 +27,10 @@ const std::vector<ImplementationVariant>& implementation_variant_registry() {
          [](const ImplementationVariants& v) { return int(v.force_loop); },
          [](ImplementationVariants& v, int k) { v.force_loop = ForceLoopVariant(k); }},
         {"list_build",
-         {"auto", "per-lane"},
-         "CUDA Verlet-list build: auto walks a warp's lanes in step and stores its rows together (1.9 against 2.3 ms "
-         "on half cells); per-lane is the fallback for merged z-runs across a periodic z face",
+         {"auto", "per-lane", "in-step"},
+         "CUDA Verlet-list build: auto gives each cell a warp whose lanes test shared candidates (stencils of at "
+         "most 32 columns on an open z; change 22); in-step, a warp's lanes walking their own stencils in step, is "
+         "the fallback elsewhere; per-lane the one for merged z-runs across a periodic z face",
          [](const ImplementationVariants& v) { return int(v.list_build); },
          [](ImplementationVariants& v, int k) { v.list_build = ListBuildVariant(k); }},
         {"list_entries",

@@ -24,8 +24,9 @@ enum class ForceLoopVariant : std::uint8_t {
 };
 // How a rebuild writes the Verlet lists.
 enum class ListBuildVariant : std::uint8_t {
-    automatic,  // "auto": with a warp's lanes in step where the stencil allows it
+    automatic,  // "auto": a warp per cell where the stencil allows it, else with the lanes in step
     per_lane,   // "per-lane": lane by lane everywhere
+    in_step,    // "in-step": a warp's lanes walking their stencils in step wherever they can
 };
 // What a Verlet list's entry holds.
 enum class ListEntriesVariant : std::uint8_t {
