@@ -173,7 +173,9 @@ __global__ void __launch_bounds__(block_size)
                 if (at <= t) k += step;
             }
             const bool candidate = t < total;
-            const std::uint32_t j = candidate ? __shfl_sync(full_warp, b, k) + (t - __shfl_sync(full_warp, before, k)) : first;
+            // Every lane takes part in every shuffle (a shuffle under the condition would not).
+            const std::uint32_t column_b = __shfl_sync(full_warp, b, k), column_before = __shfl_sync(full_warp, before, k);
+            const std::uint32_t j = candidate ? column_b + (t - column_before) : first;
             const int jdx = __shfl_sync(full_warp, dx, k), jdy = __shfl_sync(full_warp, dy, k);
             const int jdz = int(in.cell[j]) - __shfl_sync(full_warp, ref, k);
             const real4 pj = in.pos[j];
