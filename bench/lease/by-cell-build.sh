@@ -2,7 +2,7 @@
 # Change 22 (issue 25, docs/force-loop-notes.md): the lists built by one warp per cell, against
 # the in-step build it replaces as the default, in one call. Carry .carry-cluster (the packed
 # build of this commit). The CUDA tests of the list builds (bitwise against the per-lane build,
-# against the host), memcheck and racecheck of the new kernel; ncu of both builds at the 201st
+# against the host), memcheck and racecheck of the new kernel; ncu of both builds at the 151st
 # rebuild from rest (dam break 1.04M, Wendland, half cells, skin 0.1); the whole event 0-1 s
 # with each build on the same binary. Each piece is archived under $OUT as soon as it ends.
 set -uo pipefail
@@ -23,9 +23,9 @@ CASE="dsph-dambreak --set kernel=wendland --backend cuda --quiet --warmup 0 --ve
 M=l1tex__t_requests_pipe_lsu_mem_global_op_st.sum,l1tex__t_sectors_pipe_lsu_mem_global_op_st.sum,dram__bytes_read.sum,dram__bytes_write.sum,smsp__inst_executed.sum
 for k in "build_lists_by_cell auto" "build_lists_in_step in-step"; do
   set -- $k
-  $X ncu --clock-control none -k regex:$1 --launch-skip 200 -c 1 --metrics $M \
+  $X ncu --clock-control none -k regex:$1 --launch-skip 150 -c 1 --metrics $M \
     --section SpeedOfLight --section Occupancy --section WarpStateStats --section LaunchStats --section MemoryWorkloadAnalysis \
-    sphbench simulate $CASE --list-build $2 --steps 2000 --out /tmp/ncu-run > $O/r/ncu-$1.txt 2>&1
+    sphbench simulate $CASE --list-build $2 --steps 4000 --out /tmp/ncu-run > $O/r/ncu-$1.txt 2>&1
   echo "== $1: $(grep -E "^    (Duration|Registers Per|Achieved Occupancy|Avg. Active Threads|Warp Cycles Per Issued|smsp__inst_executed|l1tex__t_sectors_pipe_lsu_mem_global_op_st|dram__bytes_write)" $O/r/ncu-$1.txt | awk '{print $NF}' | tr '\n' ' ')"
 done
 tar -czf $O/tests.tar.gz -C $O r
