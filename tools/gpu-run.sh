@@ -6,6 +6,11 @@
 #                                    binaries, the shared libraries they need and the meshes
 #                                    into .carry/ (ignored by git; copy it to the GPU machine);
 #                                    F64=1 adds the float64 sphbench (build-gpu-f64/)
+#   tools/gpu-run.sh lease           after pack: .carry-cluster/lease.tar.xz, the one file a lent
+#                                    machine needs (LEASE_BINARIES, default "sphbench sph_tests",
+#                                    their libraries, the meshes, the commit), and whether the
+#                                    tree and it fit the run tool's 64 MiB (which folders to set
+#                                    aside for the call when they do not)
 #   tools/gpu-run.sh exec CMD ...    on the GPU machine, in the repository root: run CMD with
 #                                    .carry/bin on PATH, its libraries and meshes found
 #   tools/gpu-run.sh --help          this text
@@ -58,6 +63,28 @@ pack)
   [ -z "$(git status --porcelain --untracked-files=no 2>/dev/null)" ] && echo clean >"$CARRY/dirty" || echo dirty >"$CARRY/dirty"
   du -sh "$CARRY"
   ;;
+lease)
+  # The run tool carries the tree (tracked and untracked, not ignored) with the named ignored
+  # paths, 64 MiB in all: the whole .carry (every bench binary, the float64 sphbench) is more
+  # than most calls need.
+  [ -x "$CARRY/bin/sphbench" ] || { echo "gpu-run: no $CARRY/bin/sphbench; run 'tools/gpu-run.sh pack' first"; exit 2; }
+  files=()
+  for b in ${LEASE_BINARIES:-sphbench sph_tests}; do
+    [ -x "$CARRY/bin/$b" ] || { echo "gpu-run: LEASE_BINARIES names '$b', which $CARRY/bin does not hold (it holds: $(ls $CARRY/bin | tr '\n' ' '))"; exit 2; }
+    files+=("$CARRY/bin/$b")
+  done
+  mkdir -p .carry-cluster && rm -f .carry-cluster/*.tar.xz
+  tar -cf - "${files[@]}" "$CARRY/lib" "$CARRY/meshes" "$CARRY/commit" "$CARRY/dirty" | xz -T"${JOBS:-2}" -6 > .carry-cluster/lease.tar.xz
+  archive=$(stat -c %s .carry-cluster/lease.tar.xz)
+  tree=$(git ls-files -z --cached --others --exclude-standard | xargs -0 -r stat -c %s 2>/dev/null | awk '{s += $1} END {print s + 0}')
+  limit=$((64 * 1024 * 1024))
+  echo "gpu-run: .carry-cluster/lease.tar.xz $((archive / 1048576)) MiB, the tree $((tree / 1048576)) MiB, the limit 64 MiB"
+  if [ $((archive + tree)) -gt $limit ]; then
+    echo "gpu-run: over the limit by $(((archive + tree - limit) / 1048576 + 1)) MiB; the largest result folders (move them aside for the call and back after, or name fewer LEASE_BINARIES):"
+    du -sm results/reference/* 2>/dev/null | sort -rn | head -4 | sed 's/^/  /'
+    exit 3
+  fi
+  ;;
 exec)
   shift
   [ -x "$CARRY/bin/sphbench" ] || { echo "gpu-run: no $CARRY/bin/sphbench; run 'tools/gpu-run.sh pack' first"; exit 2; }
@@ -73,8 +100,8 @@ exec)
   ;;
 *)
   sed -n '2,/^[^#]/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//' >&2
-  if [ -z "${1:-}" ]; then echo "gpu-run: no command given; use pack or exec" >&2
-  else echo "gpu-run: unknown command '$1'; use pack or exec" >&2; fi
+  if [ -z "${1:-}" ]; then echo "gpu-run: no command given; use pack, lease or exec" >&2
+  else echo "gpu-run: unknown command '$1'; use pack, lease or exec" >&2; fi
   exit 2
   ;;
 esac

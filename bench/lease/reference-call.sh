@@ -2,7 +2,8 @@
 # One call of `make reference` on a lent GPU machine (docs/gpu-machines.md), within the run tool's
 # 64 MiB carried and 8 files back:
 #   here, once:   F64=1 tools/gpu-run.sh pack
-#                 mkdir -p .carry-cluster && tar -cf - .carry | xz -T2 -6 > .carry-cluster/lease.tar.xz
+#                 LEASE_BINARIES="sphbench sph_tests sph_bench sph_skip_bench sphbench-f64" tools/gpu-run.sh lease
+#                 (the archive, and whether the tree and it fit the 64 MiB; it names what to set aside)
 #                 python3 tools/reference.py --pack-dsph          (.dsph/, for DualSPHysics' items)
 #   there:        call 1 carries .carry-cluster (the tree and it fit; .carry/ is unpacked there and,
 #                 being ignored, stays for the calls after it while the machine stays warm);
