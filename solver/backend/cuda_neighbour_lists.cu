@@ -116,7 +116,7 @@ __global__ void __launch_bounds__(block_size)
     constexpr int side = 2 * N + 1;
     static_assert(side * side <= 32, "one lane a stencil column");
     const GridView& g = in.grid;
-    const std::uint32_t cell = (blockIdx.x * blockDim.x + threadIdx.x) / 32;
+    const std::uint32_t cell = blockIdx.x * (blockDim.x / 32) + threadIdx.x / 32;  // no 32-bit overflow of the thread index past 2^27 cells
     const int lane = int(threadIdx.x % 32);
     if (cell >= g.cell_count()) return;  // the whole warp
     const std::uint32_t first = max(in.cell_start[cell], *range.begin);
