@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -205,6 +206,73 @@ TEST(CudaBackend, ListBuildsGiveTheSameForcesOnRandomClouds) {
             }
             EXPECT_GT(norm, 0.0);
             EXPECT_LT(std::sqrt(err / norm), 1e-5) << "periodic " << periodic << ", n = " << search.cells_per_support;
+        }
+    }
+}
+
+// The lists themselves, not only the forces they give: an entry dropped or added in the skin
+// band (support to support + skin) changes no force at the rebuild, and would show in the
+// particles only once that pair closed in. On fresh random clouds with walls, open and
+// periodic in x and y, every GPU build stores, particle by particle, the host build's entries
+// in the host's order (the host's lists are brute force's: test_neighbours.cpp), except that
+// on the GPU a wall lists fluid only. The seed is printed, to run a failure again.
+TEST(CudaBackend, ListBuildsStoreTheHostsEntries) {
+    if (!cuda_backend_available()) GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
+    const unsigned seed = std::random_device{}();
+    std::printf("ListBuildsStoreTheHostsEntries: seed %u\n", seed);
+    for (const bool periodic : {false, true}) {
+        Scene s = test::random_scene(3000, 600, 0.3, 0.02, seed + unsigned(periodic), periodic ? 0.0 : 0.04, 0.5);
+        if (periodic) s.periodic = {true, true, false};
+        for (const SearchOptions search :
+             {SearchOptions{1, false, true}, SearchOptions{2, false, true}, SearchOptions{2, true, true}}) {
+            const Grid g = make_grid(s.lo.data(), s.hi.data(), search_reach(s.params.support, search),
+                                     search.cells_per_support, s.periodic.data());
+            // Each list as particle ids, in its stored order.
+            auto lists = [&](bool cuda, ListBuildVariant build) {
+                SubdomainConfig cfg{s.params, g.view, s.kernel, true, search};
+                cfg.variants.list_build = build;
+                auto d = cuda ? make_cuda_subdomain(cfg, s.size(), 0) : make_host_subdomain(cfg, s.size());
+                d->upload(make_particle_arrays(s, g));
+                d->sort_by_cell();
+                d->advance(euler_step(0));
+                d->build_neighbour_list(real(search.skin) * s.params.support);
+                const ParticleArrays a = d->download();
+                const Subdomain::StoredLists stored = d->download_neighbour_lists();
+                std::vector<std::vector<std::uint32_t>> by_id(a.id.size());
+                EXPECT_EQ(stored.first.size(), a.id.size() + 1);
+                for (std::size_t i = 0; i + 1 < stored.first.size() && i < a.id.size(); ++i)
+                    for (std::uint32_t k = stored.first[i]; k < stored.first[i + 1]; ++k)
+                        by_id[a.id[i]].push_back(a.id[stored.index[k]]);
+                return by_id;
+            };
+            auto host = lists(false, {});
+            std::size_t entries = 0;
+            for (std::size_t id = 0; id < host.size(); ++id) {
+                if (id < s.n_boundary)  // the GPU's walls list fluid only
+                    std::erase_if(host[id], [&](std::uint32_t j) { return j < s.n_boundary; });
+                std::sort(host[id].begin(), host[id].end());
+                entries += host[id].size();
+            }
+            EXPECT_GT(entries, 20 * host.size()) << "the clouds should be dense enough to list many neighbours";
+            const auto reference = lists(true, ListBuildVariant::per_lane);
+            for (const ListBuildVariant build :
+                 {ListBuildVariant::per_lane, ListBuildVariant::automatic, ListBuildVariant::in_step}) {
+                const auto gpu = build == ListBuildVariant::per_lane ? reference : lists(true, build);
+                ASSERT_EQ(gpu.size(), host.size());
+                std::size_t differ_host = 0, differ_order = 0;
+                for (std::size_t id = 0; id < host.size(); ++id) {
+                    differ_order += gpu[id] != reference[id];
+                    auto sorted = gpu[id];
+                    std::sort(sorted.begin(), sorted.end());
+                    differ_host += sorted != host[id];
+                }
+                std::printf("list_build %d, periodic %d, n = %d, merge = %d: of %zu lists (%zu entries) %zu hold "
+                            "other neighbours than the host's, %zu another order than per-lane's\n",
+                            int(build), int(periodic), search.cells_per_support, int(search.merge), host.size(),
+                            entries, differ_host, differ_order);
+                EXPECT_EQ(differ_host, 0u) << "seed " << seed;
+                EXPECT_EQ(differ_order, 0u) << "seed " << seed;
+            }
         }
     }
 }

@@ -316,6 +316,23 @@ public:
     std::size_t neighbour_list_bytes() const override {
         return list_index_.bytes() + list_count_.bytes() + cell_coords_.bytes() + build_frame_.bytes();
     }
+    StoredLists download_neighbour_lists() override {
+        use_device();
+        std::vector<std::uint32_t> count(std::min<std::size_t>(list_count_.size(), n_)),
+            index(std::min<std::size_t>(list_index_.size(), std::size_t(list_capacity_) * n_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(count.data(), list_count_.data(), count.size() * 4, cudaMemcpyDeviceToHost, stream_));
+        SPH_CUDA_CHECK(cudaMemcpyAsync(index.data(), list_index_.data(), index.size() * 4, cudaMemcpyDeviceToHost, stream_));
+        SPH_CUDA_CHECK(cudaStreamSynchronize(stream_));
+        StoredLists out{{0}, {}};
+        for (std::size_t i = 0; i < count.size(); ++i) {
+            for (std::uint32_t k = 0; k < std::min(count[i], list_capacity_); ++k) {
+                const std::uint32_t e = index[list_slot(k, std::uint32_t(i), n_)];
+                out.index.push_back(list_cell_offsets_ ? ListEntry::index(e) : e);
+            }
+            out.first.push_back(std::uint32_t(out.index.size()));
+        }
+        return out;
+    }
 
     void advance(const TimeStep& step) override {
         use_device();

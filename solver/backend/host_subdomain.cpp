@@ -196,6 +196,15 @@ public:
     std::size_t neighbour_list_bytes() const override {
         return (list_index_.size() + list_count_.size()) * sizeof(std::uint32_t);
     }
+    StoredLists download_neighbour_lists() override {
+        StoredLists out{{0}, {}};
+        for (std::size_t i = 0; i < list_count_.size(); ++i) {
+            for (std::uint32_t k = 0; k < list_count_[i]; ++k)
+                out.index.push_back(list_index_[list_slot(k, std::uint32_t(i), std::uint32_t(a_.size()))]);
+            out.first.push_back(std::uint32_t(out.index.size()));
+        }
+        return out;
+    }
 
     void advance(const TimeStep& step) override { advance_range(step, owned_lo_, owned_hi_); }
     void advance_cells(const TimeStep& step, std::uint32_t first_cell, std::uint32_t end_cell) override {

@@ -90,6 +90,13 @@ public:
     virtual void build_neighbour_list(real skin) = 0;
     virtual void compute_forces_listed() = 0;
     virtual std::size_t neighbour_list_bytes() const = 0;
+    // The stored lists, entry by entry as the build left them (ListEntry codes decoded to
+    // particle indices): particle i's entries are index[first[i], first[i + 1]), i in the
+    // sorted order. For the tests that hold one build's lists to another's.
+    struct StoredLists {
+        std::vector<std::uint32_t> first, index;
+    };
+    virtual StoredLists download_neighbour_lists() = 0;
     // Phase integrate: one step of the owned particles from the forces just computed; it
     // also refreshes P / rho^2, so advance(euler_step(0)) primes a freshly uploaded state.
     virtual void advance(const TimeStep& step) = 0;
