@@ -599,6 +599,48 @@ TEST(SearchStrategies, VerletListsRebuildOnDisplacementAndHoldEveryNeighbour) {
     EXPECT_GT(sim.neighbour_list_bytes(), 50 * sizeof(std::uint32_t) * s.size());
 }
 
+// What makes reusing the lists exact: while every particle is within half the skin of where
+// the lists were built, every pair now inside the support was within support + skin then. The
+// step that reuses them takes its forces where the last step left the particles; so at every
+// step that does not rebuild, no particle may be farther than half the skin from its place at
+// the last build. The solver knows no particle's displacement: it sums a bound from the step
+// statistics (Simulation::verlet_list_expired), which this holds to the particles' own paths.
+TEST(SearchStrategies, VerletListsAreReusedOnlyWhileEveryParticleIsWithinHalfTheSkin) {
+    const Scene s = test::small_dambreak("0.04");
+    SolverOptions o;
+    o.search.verlet = true;
+    o.search.cells_per_support = 2;
+    Simulation sim(s, o);
+    const double half_skin = 0.5 * o.search.skin * double(s.params.support);
+    auto farthest = [](const std::vector<std::array<double, 3>>& a, const std::vector<std::array<double, 3>>& b) {
+        double d2 = 0;
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            const double dx = a[i][0] - b[i][0], dy = a[i][1] - b[i][1], dz = a[i][2] - b[i][2];
+            d2 = std::max(d2, dx * dx + dy * dy + dz * dz);
+        }
+        return std::sqrt(d2);
+    };
+    auto before = test::positions_by_id(sim.snapshot()), built = before;
+    long builds = sim.neighbour_list_builds(), reused = 0;
+    double worst = 0;
+    for (int k = 0; k < 600; ++k) {
+        sim.step();
+        if (sim.neighbour_list_builds() != builds) {
+            builds = sim.neighbour_list_builds();
+            built = before;  // this step sorted and built on the state the last one left
+        } else {
+            ++reused;
+            worst = std::max(worst, farthest(before, built) / half_skin);
+        }
+        before = test::positions_by_id(sim.snapshot());
+    }
+    std::printf("%ld of 600 steps reused the lists; the farthest a particle had moved then: %.4f of half the skin "
+                "(%ld builds)\n", reused, worst, builds);
+    EXPECT_GT(builds, 10) << "the flow should have rebuilt the lists many times";
+    EXPECT_GT(worst, 0.5) << "the lists should have been reused close to their limit";
+    EXPECT_LE(worst, 1.0);
+}
+
 // Between rebuilds two particles may close the skin. A list built on cells of the support
 // radius would miss pairs just beyond it in cells the stencil does not reach (it did, before
 // the check: one particle's forces in this cloud came out wrong); on cells of support + skin
