@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -159,6 +160,19 @@ TEST(CudaBackend, ListBuildVariantsMatchTheDefaultBitwise) {
     }
 }
 
+// A subdomain of the scene with its Verlet lists built by `build` (on the host: its one build).
+std::unique_ptr<Subdomain> subdomain_with_lists(const Scene& s, const Grid& g, const SearchOptions& search, bool cuda,
+                                                ListBuildVariant build) {
+    SubdomainConfig cfg{s.params, g.view, s.kernel, true, search};
+    cfg.variants.list_build = build;
+    auto d = cuda ? make_cuda_subdomain(cfg, s.size(), 0) : make_host_subdomain(cfg, s.size());
+    d->upload(make_particle_arrays(s, g));
+    d->sort_by_cell();
+    d->advance(euler_step(0));
+    d->build_neighbour_list(real(search.skin) * s.params.support);
+    return d;
+}
+
 // The builds on fresh random clouds with walls, open and periodic in x and y (the warp per
 // cell wraps its columns there; a periodic z takes the in-step build): the listed forces of
 // each build bitwise the per-lane build's, and within rounding the host backend's (whose
@@ -173,13 +187,7 @@ TEST(CudaBackend, ListBuildsGiveTheSameForcesOnRandomClouds) {
             const Grid g = make_grid(s.lo.data(), s.hi.data(), search_reach(s.params.support, search),
                                      search.cells_per_support, s.periodic.data());
             auto forces = [&](bool cuda, ListBuildVariant build) {
-                SubdomainConfig cfg{s.params, g.view, s.kernel, true, search};
-                cfg.variants.list_build = build;
-                auto d = cuda ? make_cuda_subdomain(cfg, s.size(), 0) : make_host_subdomain(cfg, s.size());
-                d->upload(make_particle_arrays(s, g));
-                d->sort_by_cell();
-                d->advance(euler_step(0));
-                d->build_neighbour_list(real(search.skin) * s.params.support);
+                auto d = subdomain_with_lists(s, g, search, cuda, build);
                 d->compute_forces_listed();
                 const ParticleArrays a = d->download();
                 std::vector<real4> by_id(a.id.size());
@@ -229,13 +237,7 @@ TEST(CudaBackend, ListBuildsStoreTheHostsEntries) {
                                      search.cells_per_support, s.periodic.data());
             // Each list as particle ids, in its stored order.
             auto lists = [&](bool cuda, ListBuildVariant build) {
-                SubdomainConfig cfg{s.params, g.view, s.kernel, true, search};
-                cfg.variants.list_build = build;
-                auto d = cuda ? make_cuda_subdomain(cfg, s.size(), 0) : make_host_subdomain(cfg, s.size());
-                d->upload(make_particle_arrays(s, g));
-                d->sort_by_cell();
-                d->advance(euler_step(0));
-                d->build_neighbour_list(real(search.skin) * s.params.support);
+                auto d = subdomain_with_lists(s, g, search, cuda, build);
                 const ParticleArrays a = d->download();
                 const Subdomain::StoredLists stored = d->download_neighbour_lists();
                 std::vector<std::vector<std::uint32_t>> by_id(a.id.size());
