@@ -106,7 +106,10 @@ __global__ void __launch_bounds__(block_size)
 // from fluid_begin. The lane-per-particle builds ran at ~19 of 32 threads active (ranges of
 // different lengths, hits stored one lane at a time) and ~1,370 warp instructions a particle
 // (change 17's ncu); here the tests run on full warps and each candidate's loads serve every
-// particle of its cell. Stencils of at most 32 columns (n <= 2); not for a periodic z (its
+// particle of its cell. Before the per-particle tests, a candidate farther than the reach from
+// the box of the cell's particles (which no particle of it can then list) leaves, and so does a
+// wall for a cell of walls; the rest wait in a ring in shared memory, in order, until 32 are
+// tested together, so that the lanes stay full. Stencils of at most 32 columns (n <= 2); not for a periodic z (its
 // columns wrap, so they are not one range each), where the driver keeps the in-step build.
 template <class Search, bool CellOffsets>
 __global__ void __launch_bounds__(block_size)
@@ -160,9 +163,57 @@ __global__ void __launch_bounds__(block_size)
     const bool walls_here = first < fluid_first;  // the cell's walls come first
     const std::uint32_t below_me = (1u << lane) - 1;
     const std::size_t chunk_stride = std::size_t(stride) * sizeof(ListChunk);  // bytes from a row's chunk c to c + 1
+    // Each warp's candidates that passed the box test, in order, until 32 of them are tested
+    // together: a ring of 64 (a round adds at most 32 to fewer than 32 waiting).
+    constexpr int ring = 64;
+    __shared__ real ring_x[block_size / 32][ring], ring_y[block_size / 32][ring], ring_z[block_size / 32][ring];
+    __shared__ std::uint32_t ring_j[block_size / 32][ring], ring_entry[block_size / 32][ring], ring_d[block_size / 32][ring];
+    const int w = int(threadIdx.x / 32);
+    const real reach2_box = reach2 * real(1.0001);  // room for the rounding of j's offset from i's cell
     for (std::uint32_t group = first; group < last; group += 32) {
         const std::uint32_t members = min(last - group, 32u);
+        // The box of the group's positions (offsets in their cell) and whether all are walls.
+        real3 lo{real(1e30), real(1e30), real(1e30)}, hi{-real(1e30), -real(1e30), -real(1e30)};
+        if (std::uint32_t(lane) < members) {
+            const real4 p = in.pos[group + std::uint32_t(lane)];
+            lo = hi = make3(p.x, p.y, p.z);
+        }
+        for (int d = 16; d > 0; d /= 2) {
+            lo.x = fmin(lo.x, __shfl_xor_sync(full_warp, lo.x, d));
+            lo.y = fmin(lo.y, __shfl_xor_sync(full_warp, lo.y, d));
+            lo.z = fmin(lo.z, __shfl_xor_sync(full_warp, lo.z, d));
+            hi.x = fmax(hi.x, __shfl_xor_sync(full_warp, hi.x, d));
+            hi.y = fmax(hi.y, __shfl_xor_sync(full_warp, hi.y, d));
+            hi.z = fmax(hi.z, __shfl_xor_sync(full_warp, hi.z, d));
+        }
+        const bool all_walls = group + members <= fluid_first;
         std::uint32_t n = 0;  // lane q: the entries of particle group + q so far
+        // Tests the `avail` ring entries from `head` against each particle of the group.
+        const auto test_ring = [&](std::uint32_t head, std::uint32_t avail) {
+            const std::uint32_t r = (head + std::uint32_t(lane)) % ring;
+            const bool candidate = std::uint32_t(lane) < avail;
+            const std::uint32_t j = ring_j[w][r], entry = ring_entry[w][r], packed = ring_d[w][r];
+            const real4 pj{ring_x[w][r], ring_y[w][r], ring_z[w][r], 0};
+            const int jdx = int(packed & 15) - 8, jdy = int(packed >> 4 & 15) - 8, jdz = int(packed >> 8 & 15) - 8;
+            const bool wall_j = (packed >> 12) != 0;
+#pragma unroll 4
+            for (std::uint32_t q = 0; q < members; ++q) {
+                const std::uint32_t i = group + q;
+                const real3 rij = separation(in.pos[i], pj, jdx, jdy, jdz, g.cell_size);
+                // One test of every condition, no short cuts: a branch per particle otherwise.
+                const bool keep = candidate & (j != i) & (dot(rij, rij) < reach2) & !(wall_j & (i < fluid_first));
+                const std::uint32_t kept = __ballot_sync(full_warp, keep);
+                const std::uint32_t slot = __shfl_sync(full_warp, n, int(q)) + std::uint32_t(__popc(kept & below_me));
+                // list_slot(slot, i, stride) as a byte address: i's chunk 0 (the same on every
+                // lane) plus slot / 4 chunk strides, one wide multiply-add.
+                char* row = reinterpret_cast<char*>(index) + std::size_t(i) * sizeof(ListChunk);
+                std::uint32_t* at = reinterpret_cast<std::uint32_t*>(row + std::size_t(slot / list_chunk) * chunk_stride) +
+                                    slot % list_chunk;
+                if (keep & (slot < capacity)) *at = entry;
+                if (std::uint32_t(lane) == q) n += std::uint32_t(__popc(kept));
+            }
+        };
+        std::uint32_t head = 0, queued = 0;
         for (std::uint32_t t0 = 0; t0 < total; t0 += 32) {
             const std::uint32_t t = t0 + std::uint32_t(lane);
             // The column holding candidate t: the last k whose prefix is at most t.
@@ -180,24 +231,34 @@ __global__ void __launch_bounds__(block_size)
             const int jdz = int(in.cell[j]) - __shfl_sync(full_warp, ref, k);
             const real4 pj = in.pos[j];
             const bool wall_j = walls_here && is_boundary(in.velrho[j]);
-            const std::uint32_t entry = CellOffsets ? ListEntry::encode(j, jdx, jdy, jdz) : j;
-#pragma unroll 4
-            for (std::uint32_t q = 0; q < members; ++q) {
-                const std::uint32_t i = group + q;
-                const real3 rij = separation(in.pos[i], pj, jdx, jdy, jdz, g.cell_size);
-                // One test of every condition, no short cuts: a branch per particle otherwise.
-                const bool keep = candidate & (j != i) & (dot(rij, rij) < reach2) & !(wall_j & (i < fluid_first));
-                const std::uint32_t kept = __ballot_sync(full_warp, keep);
-                const std::uint32_t slot = __shfl_sync(full_warp, n, int(q)) + std::uint32_t(__popc(kept & below_me));
-                // list_slot(slot, i, stride) as a byte address: i's chunk 0 (the same on every
-                // lane) plus slot / 4 chunk strides, one wide multiply-add.
-                char* row = reinterpret_cast<char*>(index) + std::size_t(i) * sizeof(ListChunk);
-                std::uint32_t* at = reinterpret_cast<std::uint32_t*>(row + std::size_t(slot / list_chunk) * chunk_stride) +
-                                    slot % list_chunk;
-                if (keep & (slot < capacity)) *at = entry;
-                if (std::uint32_t(lane) == q) n += std::uint32_t(__popc(kept));
+            // Candidates farther than the reach from the group's box reach none of it: they
+            // leave before the per-particle tests (about a third of a stencil of half cells).
+            const real gx = fmax(fmax(lo.x - (pj.x + jdx * g.cell_size.x), (pj.x + jdx * g.cell_size.x) - hi.x), real(0));
+            const real gy = fmax(fmax(lo.y - (pj.y + jdy * g.cell_size.y), (pj.y + jdy * g.cell_size.y) - hi.y), real(0));
+            const real gz = fmax(fmax(lo.z - (pj.z + jdz * g.cell_size.z), (pj.z + jdz * g.cell_size.z) - hi.z), real(0));
+            const bool near = candidate & (gx * gx + gy * gy + gz * gz <= reach2_box) & !(wall_j & all_walls);
+            const std::uint32_t passed = __ballot_sync(full_warp, near);
+            if (near) {
+                const std::uint32_t r = (head + queued + std::uint32_t(__popc(passed & below_me))) % ring;
+                ring_x[w][r] = pj.x;
+                ring_y[w][r] = pj.y;
+                ring_z[w][r] = pj.z;
+                ring_j[w][r] = j;
+                ring_entry[w][r] = CellOffsets ? ListEntry::encode(j, jdx, jdy, jdz) : j;
+                ring_d[w][r] = std::uint32_t(jdx + 8) | std::uint32_t(jdy + 8) << 4 | std::uint32_t(jdz + 8) << 8 |
+                               std::uint32_t(wall_j) << 12;
+            }
+            queued += std::uint32_t(__popc(passed));
+            __syncwarp();
+            if (queued >= 32) {
+                test_ring(head, 32);
+                head = (head + 32) % ring;
+                queued -= 32;
+                __syncwarp();  // the next round writes where this one read
             }
         }
+        if (queued > 0) test_ring(head, queued);
+        __syncwarp();
         if (std::uint32_t(lane) < members) count[group + std::uint32_t(lane)] = n;
     }
 }
