@@ -276,28 +276,33 @@ def run_spheric2_dualsphysics(ctx, d):
         shutil.rmtree(work, ignore_errors=True)
 
 
-WHOLE_RUN_DSPH = {"1.0": ["dp0045_cubic", "dp0045_wendland_half"], "0.3": ["dp0028_cubic", "dp0028_wendland_half"]}
+# DualSPHysics' dam breaks over the whole events of experiments/whole-run.toml, one item an event:
+# both events together (~450 s on an H200) do not fit one command of 10 minutes on an H100.
+WHOLE_RUN_DSPH = {"whole-run-dualsphysics-1.04M": ("1.0", ["dp0045_cubic", "dp0045_wendland_half"]),
+                  "whole-run-dualsphysics-4.04M": ("0.3", ["dp0028_cubic", "dp0028_wendland_half"])}
 
 
-def run_whole_run_dualsphysics(ctx, d):
-    """DualSPHysics' dam breaks over the whole events of experiments/whole-run.toml (1.04M to 1 s,
-    4.04M to 0.3 s): its "Runtime per physical second" beside ours from the same lease."""
-    anchor = Path(os.environ["DSPH"])
-    unpack_xz(anchor)
-    work = Path(tempfile.mkdtemp(prefix="dsph-whole-run-"))
-    try:
-        out = d / "whole-run-dualsphysics"
-        shutil.rmtree(out, ignore_errors=True)
-        out.mkdir(parents=True)
-        for tmax, cases in WHOLE_RUN_DSPH.items():
+def run_whole_run_dualsphysics(tmax, cases):
+    """DualSPHysics' CASES to TMAX simulated seconds: its "Runtime per physical second" beside
+    ours from the same lease, into whole-run-dualsphysics/ (summary-tmax-TMAX.tsv, the Run.out's)."""
+    def run(ctx, d):
+        anchor = Path(os.environ["DSPH"])
+        unpack_xz(anchor)
+        work = Path(tempfile.mkdtemp(prefix="dsph-whole-run-"))
+        try:
+            out = d / "whole-run-dualsphysics"
+            out.mkdir(parents=True, exist_ok=True)
+            for c in cases:
+                (out / f"{c}.Run.out").unlink(missing_ok=True)
             logs = work / f"tmax-{tmax}"
             env = dict(os.environ, DSPH_EXTRA=f"-tmax:{tmax}", DSPH_WORK=str(work / "scratch"))
             ctx.sh(["bash", anchor / "run.sh", logs, *cases], log=None, env=env)
             shutil.copy(logs / "summary.tsv", out / f"summary-tmax-{tmax}.tsv")
             for f in logs.glob("*.Run.out"):
                 shutil.copy(f, out / f.name)
-    finally:
-        shutil.rmtree(work, ignore_errors=True)
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+    return run
 
 
 def run_force_loop_bench(ctx, d):
@@ -486,11 +491,12 @@ def items(gpus=1):
                {"whole-run-1.04M": 300, "whole-run-4.04M": 420}[group], ["sphbench"], run_whole_run(ids),
                inputs=["experiments/whole-run.toml"], outputs=[f"whole-run/{i}.runs.csv" for i in ids])
           for group, ids in WHOLE_RUN_GROUPS.items()],
-        Item("whole-run-dualsphysics", "DualSPHysics v5.4 on the dam breaks' whole events (1.04M to 1 s, 4.04M to 0.3 s)",
-             "single", 450, ["sphbench"], run_whole_run_dualsphysics,
-             outputs=["whole-run-dualsphysics/summary-tmax-0.3.tsv"],
-             needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "run.sh").is_file()
-             else "DSPH (DualSPHysics' anchor folder with run.sh) is not set"),
+        *[Item(name, f"DualSPHysics v5.4 on the dam break {name.rsplit('-', 1)[1]}'s whole event (0 to {tmax} s)",
+               "single", {"whole-run-dualsphysics-1.04M": 220, "whole-run-dualsphysics-4.04M": 330}[name], ["sphbench"],
+               run_whole_run_dualsphysics(tmax, cases), outputs=[f"whole-run-dualsphysics/summary-tmax-{tmax}.tsv"],
+               needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "run.sh").is_file()
+               else "DSPH (DualSPHysics' anchor folder with run.sh) is not set")
+          for name, (tmax, cases) in WHOLE_RUN_DSPH.items()],
         Item("spheric2", "SPHERIC Test 2 at three spacings, to 6 s at dp 0.02 and 0.01 (experiments/spheric2.toml, "
              "float64 build too)", "single", 420, ["sphbench", "sphbench-f64"], run_spheric2,
              inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
@@ -599,7 +605,7 @@ def stamp(item, tools, gpus):
         h.update(f"{f}={digest(REPO / f)}\n".encode())
     if item.name == "benchmarks":
         h.update("\n".join(BENCHMARK_CASES).encode())
-    if item.name in ("dualsphysics", "spheric2-dualsphysics", "whole-run-dualsphysics"):
+    if item.name in ("dualsphysics", "spheric2-dualsphysics", *WHOLE_RUN_DSPH):
         h.update(digest(Path(os.environ["DSPH"]) / "run.sh").encode())
     if item.name == "spheric2-dualsphysics":
         h.update(digest(Path(os.environ["DSPH"]) / "spheric2" / "make_case.sh").encode())
