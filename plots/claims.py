@@ -279,6 +279,37 @@ def whole_run(folder):
                 every_hi=max(every), n=len(runs), _meta=next(iter(runs.values()))[1])
 
 
+def whole_run_vs_dualsphysics(folder, size="1.04M", tmax="1.0"):
+    """Our whole event with Verlet lists against DualSPHysics' on the same GPU, per kernel: its
+    "Runtime per physical second" (whole-run-dualsphysics/summary-tmax-TMAX.tsv) over our seconds
+    per simulated second (whole-run/dambreak-SIZE-KERNEL-lists.runs.csv); vs_fastest: DualSPHysics'
+    fastest setting over our slowest kernel (issue 25's target)."""
+    summary = folder / "whole-run-dualsphysics" / f"summary-tmax-{tmax}.tsv"
+    if not summary.is_file():
+        raise Missing(summary)
+    lines = summary.read_text().splitlines()
+    cols = lines[0].split("\t")
+    theirs = {}
+    for line in lines[1:]:
+        cells = line.split("\t")
+        if len(cells) == len(cols) and cells[cols.index("rc")] == "0":
+            theirs[cells[0]] = float(cells[cols.index("runtime_per_phys_s")])
+    dp = {"1.04M": "dp0045", "4.04M": "dp0028"}[size]
+    ours, meta = {}, None
+    for kernel, case in (("cubic", f"{dp}_cubic"), ("wendland", f"{dp}_wendland_half")):
+        path = folder / "whole-run" / f"dambreak-{size}-{kernel}-lists.runs.csv"
+        if path.is_file() and case in theirs:
+            df, meta = sphplot.read_csv_with_metadata(path)
+            ours[kernel] = (float(df.iloc[0]["s_per_sim_s"]), theirs[case], case)
+    if not ours:
+        raise Missing(f"no kernel run by both codes in {folder}")
+    ratios = [t / o for o, t, _ in ours.values()]
+    vs_fastest = min(theirs.values()) / max(o for o, _, _ in ours.values())
+    cases = ", ".join(f"{k} {o:.1f} s against {c} {t:.1f} s: {t / o:.2f}x" for k, (o, t, c) in sorted(ours.items()))
+    return dict(lo=min(ratios), hi=max(ratios), vs_fastest=vs_fastest, fastest=min(theirs.values()), cases=cases,
+                n=len(ours), _meta=meta)
+
+
 def _spheric2(folder):
     import spheric2
     if not (folder / "spheric2" / "runs.csv").is_file():
@@ -325,7 +356,7 @@ def spheric2_p1(folder):
 
 
 METRICS = {f.__name__: f for f in (cll_vs_vl, fig3_speedup, fig3_best, fig4_change, balance, speedup, speedup_by_size,
-                                   threshold_gain, transports, dualsphysics, skip_bench, whole_run,
+                                   threshold_gain, transports, dualsphysics, skip_bench, whole_run, whole_run_vs_dualsphysics,
                                    spheric2_heights, spheric2_p1)}
 
 
