@@ -118,7 +118,7 @@ class ReferenceRuns(unittest.TestCase):
         self.assertFalse(self.calls.exists(), "a call with everything up to date ran a program")
 
     def test_whole_runs_come_one_run_at_a_time(self):
-        rc, out, err = self.reference(REFERENCE_ONLY="whole-run-4.04M")
+        rc, out, err = self.reference(REFERENCE_ONLY="whole-run-4.04M whole-run-4.04M-cells")
         self.assertEqual(rc, 0, out + err)
         folder = self.root / "h200" / "whole-run"
         ids = ["dambreak-4.04M-wendland-lists", "dambreak-4.04M-wendland-cells", "dambreak-4.04M-cubic-lists",
