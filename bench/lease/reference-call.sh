@@ -10,6 +10,8 @@
 #                 a call that runs DualSPHysics carries .dsph instead (the tree, .carry-cluster and
 #                 .dsph together pass 64 MiB).
 #     bash bench/lease/reference-call.sh BUDGET_S [ITEMS...]
+#     (FORCE=1: run the items even where their stamps say up to date, e.g. ours again beside
+#     DualSPHysics' whole events on the machine that runs those)
 #   here, after each call, before the next: tar -xzf <files_at>/reference.tar.gz (or, in parts,
 #   cat <files_at>/reference.tar.gz.part* | tar -xz): the next call's tree replaces the machine's
 #   results/reference/.
@@ -21,4 +23,4 @@ for t in .carry-cluster/*.tar.xz; do [ -f "$t" ] && tar -xJf "$t"; done
 budget=${1:?usage: reference-call.sh BUDGET_S [ITEMS...]}; shift
 nvidia-smi --query-gpu=name,clocks.sm,clocks.mem,temperature.gpu,power.draw --format=csv > "$O/gpu.txt"
 PYTHONUNBUFFERED=1 REFERENCE_ARCHIVE="$O/reference.tar.gz" REFERENCE_BUDGET_S="$budget" REFERENCE_ONLY="$*" \
-  tools/gpu-run.sh exec python3 tools/reference.py 2>&1 | tee "$O/reference.log" | grep -E "^\[|^reference:|estimate"
+  tools/gpu-run.sh exec python3 tools/reference.py ${FORCE:+--force} 2>&1 | tee "$O/reference.log" | grep -E "^\[|^reference:|estimate"
