@@ -202,20 +202,67 @@ def whole_run(folder):
             sources.setdefault(str(s.commit)[:7], s)
     if not rows:
         raise Missing(f"no run in `results/reference/{rel(folder)}`")
+    theirs, dsph_source = whole_run_dualsphysics(folder)
     out = []
     for r, src in rows:
         reb = r.get("list_rebuilds")
         every = r["steps"] / reb if reb and np.isfinite(reb) and reb > 0 else np.nan
-        out.append([r["run_id"], thousands(r["particles"]), f(r["sim_time"], ".3g") + " s", thousands(r["steps"]),
-                    thousands(reb) + (f" (every {every:.1f})" if np.isfinite(every) else ""),
-                    f(r.get("rebuild_step_ms")), f(r.get("listed_step_ms")), f(r["wall_s"], ".1f"),
-                    "**" + f(r["s_per_sim_s"], ".2f") + "**", f(r.get("list_bytes_per_particle"), ",.0f"), f"`{src}`"])
+        row = [r["run_id"], thousands(r["particles"]), f(r["sim_time"], ".3g") + " s", thousands(r["steps"]),
+               thousands(reb) + (f" (every {every:.1f})" if np.isfinite(every) else ""),
+               f(r.get("rebuild_step_ms")), f(r.get("listed_step_ms")), f(r["wall_s"], ".1f"),
+               "**" + f(r["s_per_sim_s"], ".2f") + "**", f(r.get("list_bytes_per_particle"), ",.0f")]
+        if theirs:
+            case = WHOLE_RUN_DSPH_CASE.get(re.sub(r"-(lists|cells)$", "", r["run_id"]))
+            t = theirs.get(case)
+            row += [f"{t['runtime_per_phys_s']:.2f} ({case})" if t else "-",
+                    f"{t['runtime_per_phys_s'] / r['s_per_sim_s']:.2f}x" if t else "-"]
+        out.append(row + [f"`{src}`"])
     header = ["run", "particles", "simulated", "steps", "list rebuilds (every n steps)", "rebuild step ms (mean)",
-              "listed step ms (mean)", "wall s", "s per simulated second", "list bytes per particle", "from"]
-    notes = ["DualSPHysics' seconds per simulated second on these events are no committed result "
-             f"(`results/reference/{rel(folder)}/README.md` quotes them from issue 25's measurement at 196b2a0, "
-             "whose Run.out files were not committed), so no ratio to DualSPHysics is generated here."]
-    return Table(header, out, list(sources.values()), notes)
+              "listed step ms (mean)", "wall s", "s per simulated second", "list bytes per particle"]
+    if theirs:
+        header += ["DualSPHysics s per simulated second (its case)", "DualSPHysics over ours"]
+        notes = [f"DualSPHysics v5.4 from `results/reference/{dsph_source.path}` (its Run.out's \"Runtime per physical "
+                 "second\", on the same GPU as ours: `make reference`'s items whole-run-dualsphysics-1.04M and -4.04M, "
+                 "each in the call that ran ours at that size); its settings are the case named (its defaults: cubic on "
+                 "cells of the support; Wendland on half cells), beside both of our searches. Its GPU memory: "
+                 + ", ".join(f"{c} {t['bytes_per_particle']:.0f} bytes a particle" for c, t in sorted(theirs.items()))
+                 + " (the resume's \"GPU Memory\" over its particles)."]
+        sources.setdefault("dsph", dsph_source)
+    else:
+        notes = ["DualSPHysics' seconds per simulated second on these events are no committed result "
+                 f"(`results/reference/{rel(folder)}/README.md` quotes them from issue 25's measurement at 196b2a0, "
+                 "whose Run.out files were not committed), so no ratio to DualSPHysics is generated here."]
+    return Table(header + ["from"], out, list(sources.values()), notes)
+
+
+# Our whole-run runs (without their search) and DualSPHysics' case of the same event.
+WHOLE_RUN_DSPH_CASE = {"dambreak-1.04M-cubic": "dp0045_cubic", "dambreak-1.04M-wendland": "dp0045_wendland_half",
+                       "dambreak-4.04M-cubic": "dp0028_cubic", "dambreak-4.04M-wendland": "dp0028_wendland_half"}
+
+
+def whole_run_dualsphysics(folder):
+    """DualSPHysics' whole events beside a whole-run folder (../whole-run-dualsphysics/summary-tmax-*.tsv):
+    {case: its summary row}, and their provenance (the item in reference-state.json)."""
+    d = Path(folder).parent / "whole-run-dualsphysics"
+    theirs = {}
+    for path in sorted(d.glob("summary-tmax-*.tsv")):
+        lines = path.read_text().splitlines()
+        cols = lines[0].split("\t")
+        for line in lines[1:]:
+            cells = line.split("\t")
+            if len(cells) != len(cols) or cells[cols.index("rc")] != "0":
+                continue
+            row = dict(zip(cols, cells))
+            theirs[row["case"]] = {"runtime_per_phys_s": float(row["runtime_per_phys_s"]),
+                                   "bytes_per_particle": float(row["gpu_mem_mib"]) * 2**20 / float(row["np"])}
+    if not theirs:
+        return {}, None
+    for item in ("whole-run-dualsphysics-1.04M", "whole-run-dualsphysics-4.04M"):
+        try:
+            return theirs, from_item(d, item)
+        except Missing:
+            continue
+    return theirs, Source(rel(d), claims.gpu_of(machine_of(d), None), None)  # not made by make reference
 
 
 def whole_run_windows(folder):

@@ -165,6 +165,33 @@ class Parsers(unittest.TestCase):
         self.assertEqual((r["steps"], r["s_per_sim_s"], r["list_rebuilds"], r["listed_step_ms"]),
                          (11303, 264.1, 1287, 5.095))
 
+    def test_dualsphysics_whole_events_beside_ours_give_the_ratio_per_case(self):
+        """With whole-run-dualsphysics/ beside whole-run/, each of our dam-break rows gets
+        DualSPHysics' time for its case and the ratio; the claim's metric takes its fastest case."""
+        with tempfile.TemporaryDirectory() as tmp:
+            machine = Path(tmp) / "reference" / "h100"
+            shutil.copytree(rt.REFERENCE / "h100" / "whole-run", machine / "whole-run")
+            (machine / "whole-run-dualsphysics").mkdir()
+            cols = "case np kernel cellmode steps runtime_per_phys_s gpu_mem_mib rc".split()
+            rows = [["dp0045_cubic", "1048576", "CubicSpline", "Full", "24000", "117.0", "160", "0"],
+                    ["dp0045_wendland_half", "1048576", "Wendland", "Half", "24491", "78.0", "180", "0"],
+                    ["dp0028_cubic", "4037948", "CubicSpline", "Full", "1", "1.0", "600", "1"]]  # failed: ignored
+            (machine / "whole-run-dualsphysics" / "summary-tmax-1.0.tsv").write_text(
+                "\n".join("\t".join(r) for r in [cols, *rows]) + "\n")
+            table = rt.whole_run(machine / "whole-run")
+            ratio = table.header.index("DualSPHysics over ours")
+            by_run = {r[0]: r for r in table.rows}
+            ours = float(by_run["dambreak-1.04M-wendland-lists"][table.header.index("s per simulated second")].strip("*"))
+            self.assertEqual(by_run["dambreak-1.04M-wendland-lists"][ratio], f"{78.0 / ours:.2f}x")
+            self.assertEqual(by_run["armadillo-2980K-lists"][ratio], "-")
+            self.assertIn("180 bytes a particle", table.notes[0])
+            v = claims.whole_run_vs_dualsphysics(machine)
+            self.assertAlmostEqual(v["fastest"], 78.0)
+            cubic = float(by_run["dambreak-1.04M-cubic-lists"][table.header.index("s per simulated second")].strip("*"))
+            self.assertAlmostEqual(v["vs_fastest"], 78.0 / max(ours, cubic), places=2)
+            with self.assertRaises(claims.Missing):
+                claims.whole_run_vs_dualsphysics(machine, size="4.04M", tmax="0.3")
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=1)
