@@ -210,7 +210,8 @@ def whole_run(folder):
         row = [r["run_id"], thousands(r["particles"]), f(r["sim_time"], ".3g") + " s", thousands(r["steps"]),
                thousands(reb) + (f" (every {every:.1f})" if np.isfinite(every) else ""),
                f(r.get("rebuild_step_ms")), f(r.get("listed_step_ms")), f(r["wall_s"], ".1f"),
-               "**" + f(r["s_per_sim_s"], ".2f") + "**", f(r.get("list_bytes_per_particle"), ",.0f")]
+               "**" + f(r["s_per_sim_s"], ".2f") + "**", f(r.get("list_bytes_per_particle"), ",.0f"),
+               f(r.get("bytes_per_particle"), ",.0f"), f(pairs_per_s(r), ".1f")]
         if theirs:
             case = WHOLE_RUN_DSPH_CASE.get(re.sub(r"-(lists|cells)$", "", r["run_id"]))
             t = theirs.get(case)
@@ -218,7 +219,10 @@ def whole_run(folder):
                     f"{t['runtime_per_phys_s'] / r['s_per_sim_s']:.2f}x" if t else "-"]
         out.append(row + [f"`{src}`"])
     header = ["run", "particles", "simulated", "steps", "list rebuilds (every n steps)", "rebuild step ms (mean)",
-              "listed step ms (mean)", "wall s", "s per simulated second", "list bytes per particle"]
+              "listed step ms (mean)", "wall s", "s per simulated second", "list bytes per particle",
+              "all bytes per particle", "neighbour pairs a second (G)"]
+    pairs_note = ("Neighbour pairs a second: the pairs inside the support at the run's last step (the work counters "
+                  "count one step) times its steps, over its wall time.")
     if theirs:
         header += ["DualSPHysics s per simulated second (its case)", "DualSPHysics over ours"]
         notes = [f"DualSPHysics v5.4 from `results/reference/{dsph_source.path}` (its Run.out's \"Runtime per physical "
@@ -232,7 +236,15 @@ def whole_run(folder):
         notes = ["DualSPHysics' seconds per simulated second on these events are no committed result "
                  f"(`results/reference/{rel(folder)}/README.md` quotes them from issue 25's measurement at 196b2a0, "
                  "whose Run.out files were not committed), so no ratio to DualSPHysics is generated here."]
-    return Table(header + ["from"], out, list(sources.values()), notes)
+    return Table(header + ["from"], out, list(sources.values()), notes + [pairs_note])
+
+
+def pairs_per_s(r):
+    """Neighbour pairs a second of wall time, in billions (the last step's pairs times the steps)."""
+    try:
+        return float(r["neighbours_per_step"]) * float(r["steps"]) / float(r["wall_s"]) / 1e9
+    except (KeyError, TypeError, ValueError, ZeroDivisionError):
+        return np.nan
 
 
 # Our whole-run runs (without their search) and DualSPHysics' case of the same event.
