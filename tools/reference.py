@@ -337,10 +337,11 @@ def sphbench_run(spec, extra=None):
 # experiments/whole-run.toml's runs in groups that each fit one command of 10 minutes (all nine
 # took 579 s on an H200 at 674606d): one item a group, one `sphbench run --only` a run.
 WHOLE_RUN_GROUPS = {
-    "whole-run-1.04M": ["dambreak-1.04M-wendland-lists", "dambreak-1.04M-wendland-cells", "dambreak-1.04M-cubic-lists",
-                        "dambreak-1.04M-cubic-cells", "armadillo-2980K-lists", "armadillo-2980K-cells"],
-    # The 4.04M events in two items: with DualSPHysics' (whole-run-dualsphysics-4.04M) the lists
-    # fit one command, the four runs do not.
+    # Each size in two items, the lists (beside DualSPHysics' event of that size, whole-run-dualsphysics-*,
+    # they fit one command) and the cell search with the armadillo.
+    "whole-run-1.04M": ["dambreak-1.04M-wendland-lists", "dambreak-1.04M-cubic-lists"],
+    "whole-run-1.04M-cells": ["dambreak-1.04M-wendland-cells", "dambreak-1.04M-cubic-cells", "armadillo-2980K-lists",
+                              "armadillo-2980K-cells"],
     "whole-run-4.04M": ["dambreak-4.04M-wendland-lists", "dambreak-4.04M-cubic-lists"],
     "whole-run-4.04M-cells": ["dambreak-4.04M-wendland-cells", "dambreak-4.04M-cubic-cells"],
 }
@@ -490,7 +491,7 @@ def items(gpus=1):
              ["sphbench", "sphbench-f64"], run_accuracy, inputs=["experiments/accuracy.toml"],
              outputs=["accuracy/runs.csv"]),
         *[Item(group, f"whole events of experiments/whole-run.toml: {', '.join(ids)}", "single",
-               {"whole-run-1.04M": 300, "whole-run-4.04M": 180, "whole-run-4.04M-cells": 250}[group], ["sphbench"], run_whole_run(ids),
+               {"whole-run-1.04M": 95, "whole-run-1.04M-cells": 200, "whole-run-4.04M": 180, "whole-run-4.04M-cells": 250}[group], ["sphbench"], run_whole_run(ids),
                inputs=["experiments/whole-run.toml"], outputs=[f"whole-run/{i}.runs.csv" for i in ids])
           for group, ids in WHOLE_RUN_GROUPS.items()],
         *[Item(name, f"DualSPHysics v5.4 on the dam break {name.rsplit('-', 1)[1]}'s whole event (0 to {tmax} s)",
