@@ -279,34 +279,51 @@ def whole_run(folder):
                 every_hi=max(every), n=len(runs), _meta=next(iter(runs.values()))[1])
 
 
+# Our whole-run runs (without their search) and DualSPHysics' case of the same event.
+WHOLE_RUN_DSPH_CASE = {"dambreak-1.04M-cubic": "dp0045_cubic", "dambreak-1.04M-wendland": "dp0045_wendland_half",
+                       "dambreak-4.04M-cubic": "dp0028_cubic", "dambreak-4.04M-wendland": "dp0028_wendland_half"}
+
+
+def dualsphysics_whole_runs(machine):
+    """DualSPHysics' whole events that ran (rc 0) in MACHINE/whole-run-dualsphysics/summary-tmax-*.tsv
+    (make reference's whole-run-dualsphysics-* items): {case: its summary row, with
+    runtime_per_phys_s and bytes_per_particle (the resume's GPU memory over its particles)}."""
+    theirs = {}
+    for path in sorted((Path(machine) / "whole-run-dualsphysics").glob("summary-tmax-*.tsv")):
+        cols, *lines = path.read_text().splitlines()
+        cols = cols.split("\t")
+        for line in lines:
+            row = dict(zip(cols, line.split("\t")))
+            if len(row) != len(cols) or row["rc"] != "0":
+                continue
+            theirs[row["case"]] = {"runtime_per_phys_s": float(row["runtime_per_phys_s"]),
+                                   "bytes_per_particle": float(row["gpu_mem_mib"]) * 2**20 / float(row["np"])}
+    return theirs
+
+
 def whole_run_vs_dualsphysics(folder, size="1.04M", tmax="1.0"):
     """Our whole event with Verlet lists against DualSPHysics' on the same GPU, per kernel: its
-    "Runtime per physical second" (whole-run-dualsphysics/summary-tmax-TMAX.tsv) over our seconds
-    per simulated second (whole-run/dambreak-SIZE-KERNEL-lists.runs.csv); vs_fastest: DualSPHysics'
-    fastest setting over our slowest kernel (issue 25's target)."""
-    summary = folder / "whole-run-dualsphysics" / f"summary-tmax-{tmax}.tsv"
-    if not summary.is_file():
-        raise Missing(summary)
-    lines = summary.read_text().splitlines()
-    cols = lines[0].split("\t")
-    theirs = {}
-    for line in lines[1:]:
-        cells = line.split("\t")
-        if len(cells) == len(cols) and cells[cols.index("rc")] == "0":
-            theirs[cells[0]] = float(cells[cols.index("runtime_per_phys_s")])
-    dp = {"1.04M": "dp0045", "4.04M": "dp0028"}[size]
+    "Runtime per physical second" over our seconds per simulated second
+    (whole-run/dambreak-SIZE-KERNEL-lists.runs.csv); vs_fastest: DualSPHysics' fastest setting of
+    that size over our slowest kernel (issue 25's target). tmax names the event's summary file."""
+    theirs = dualsphysics_whole_runs(folder)
+    if not (Path(folder) / "whole-run-dualsphysics" / f"summary-tmax-{tmax}.tsv").is_file():
+        raise Missing(f"no DualSPHysics summary to {tmax} s in {folder}")
     ours, meta = {}, None
-    for kernel, case in (("cubic", f"{dp}_cubic"), ("wendland", f"{dp}_wendland_half")):
-        path = folder / "whole-run" / f"dambreak-{size}-{kernel}-lists.runs.csv"
+    for kernel in ("cubic", "wendland"):
+        case = WHOLE_RUN_DSPH_CASE[f"dambreak-{size}-{kernel}"]
+        path = Path(folder) / "whole-run" / f"dambreak-{size}-{kernel}-lists.runs.csv"
         if path.is_file() and case in theirs:
             df, meta = sphplot.read_csv_with_metadata(path)
-            ours[kernel] = (float(df.iloc[0]["s_per_sim_s"]), theirs[case], case)
+            ours[kernel] = (float(df.iloc[0]["s_per_sim_s"]), theirs[case]["runtime_per_phys_s"], case)
     if not ours:
         raise Missing(f"no kernel run by both codes in {folder}")
+    sized = [t["runtime_per_phys_s"] for c, t in theirs.items() if c in {WHOLE_RUN_DSPH_CASE[f"dambreak-{size}-{k}"]
+                                                                          for k in ("cubic", "wendland")}]
     ratios = [t / o for o, t, _ in ours.values()]
-    vs_fastest = min(theirs.values()) / max(o for o, _, _ in ours.values())
+    vs_fastest = min(sized) / max(o for o, _, _ in ours.values())
     cases = ", ".join(f"{k} {o:.1f} s against {c} {t:.1f} s: {t / o:.2f}x" for k, (o, t, c) in sorted(ours.items()))
-    return dict(lo=min(ratios), hi=max(ratios), vs_fastest=vs_fastest, fastest=min(theirs.values()), cases=cases,
+    return dict(lo=min(ratios), hi=max(ratios), vs_fastest=vs_fastest, fastest=min(sized), cases=cases,
                 n=len(ours), _meta=meta)
 
 

@@ -213,7 +213,7 @@ def whole_run(folder):
                "**" + f(r["s_per_sim_s"], ".2f") + "**", f(r.get("list_bytes_per_particle"), ",.0f"),
                f(r.get("bytes_per_particle"), ",.0f"), f(pairs_per_s(r), ".1f")]
         if theirs:
-            case = WHOLE_RUN_DSPH_CASE.get(re.sub(r"-(lists|cells)$", "", r["run_id"]))
+            case = claims.WHOLE_RUN_DSPH_CASE.get(re.sub(r"-(lists|cells)$", "", r["run_id"]))
             t = theirs.get(case)
             row += [f"{t['runtime_per_phys_s']:.2f} ({case})" if t else "-",
                     f"{t['runtime_per_phys_s'] / r['s_per_sim_s']:.2f}x" if t else "-"]
@@ -247,26 +247,11 @@ def pairs_per_s(r):
         return np.nan
 
 
-# Our whole-run runs (without their search) and DualSPHysics' case of the same event.
-WHOLE_RUN_DSPH_CASE = {"dambreak-1.04M-cubic": "dp0045_cubic", "dambreak-1.04M-wendland": "dp0045_wendland_half",
-                       "dambreak-4.04M-cubic": "dp0028_cubic", "dambreak-4.04M-wendland": "dp0028_wendland_half"}
-
-
 def whole_run_dualsphysics(folder):
-    """DualSPHysics' whole events beside a whole-run folder (../whole-run-dualsphysics/summary-tmax-*.tsv):
-    {case: its summary row}, and their provenance (the item in reference-state.json)."""
+    """DualSPHysics' whole events beside a whole-run folder ({case: its summary row}, claims.py reads
+    them), and their provenance: the item in reference-state.json that made them."""
     d = Path(folder).parent / "whole-run-dualsphysics"
-    theirs = {}
-    for path in sorted(d.glob("summary-tmax-*.tsv")):
-        lines = path.read_text().splitlines()
-        cols = lines[0].split("\t")
-        for line in lines[1:]:
-            cells = line.split("\t")
-            if len(cells) != len(cols) or cells[cols.index("rc")] != "0":
-                continue
-            row = dict(zip(cols, cells))
-            theirs[row["case"]] = {"runtime_per_phys_s": float(row["runtime_per_phys_s"]),
-                                   "bytes_per_particle": float(row["gpu_mem_mib"]) * 2**20 / float(row["np"])}
+    theirs = claims.dualsphysics_whole_runs(Path(folder).parent)
     if not theirs:
         return {}, None
     for item in ("whole-run-dualsphysics-1.04M", "whole-run-dualsphysics-4.04M"):

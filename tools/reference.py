@@ -278,8 +278,18 @@ def run_spheric2_dualsphysics(ctx, d):
 
 # DualSPHysics' dam breaks over the whole events of experiments/whole-run.toml, one item an event:
 # both events together (~450 s on an H200) do not fit one command of 10 minutes on an H100.
-WHOLE_RUN_DSPH = {"whole-run-dualsphysics-1.04M": ("1.0", ["dp0045_cubic", "dp0045_wendland_half"]),
-                  "whole-run-dualsphysics-4.04M": ("0.3", ["dp0028_cubic", "dp0028_wendland_half"])}
+# name: (simulated seconds, its cases, estimate in seconds on an H200)
+WHOLE_RUN_DSPH = {"whole-run-dualsphysics-1.04M": ("1.0", ["dp0045_cubic", "dp0045_wendland_half"], 220),
+                  "whole-run-dualsphysics-4.04M": ("0.3", ["dp0028_cubic", "dp0028_wendland_half"], 330)}
+
+
+def needs_dsph(*path):
+    """An item's `needs`: DualSPHysics' anchor folder ($DSPH) with the file its runs start from."""
+    def needs(_tools):
+        if os.environ.get("DSPH") and Path(os.environ["DSPH"], *path).is_file():
+            return None
+        return f"DSPH (DualSPHysics' anchor folder with {'/'.join(path)}) is not set"
+    return needs
 
 
 def run_whole_run_dualsphysics(tmax, cases):
@@ -338,12 +348,13 @@ def sphbench_run(spec, extra=None):
 # took 579 s on an H200 at 674606d): one item a group, one `sphbench run --only` a run.
 WHOLE_RUN_GROUPS = {
     # Each size in two items, the lists (beside DualSPHysics' event of that size, whole-run-dualsphysics-*,
-    # they fit one command) and the cell search with the armadillo.
-    "whole-run-1.04M": ["dambreak-1.04M-wendland-lists", "dambreak-1.04M-cubic-lists"],
-    "whole-run-1.04M-cells": ["dambreak-1.04M-wendland-cells", "dambreak-1.04M-cubic-cells", "armadillo-2980K-lists",
-                              "armadillo-2980K-cells"],
-    "whole-run-4.04M": ["dambreak-4.04M-wendland-lists", "dambreak-4.04M-cubic-lists"],
-    "whole-run-4.04M-cells": ["dambreak-4.04M-wendland-cells", "dambreak-4.04M-cubic-cells"],
+    # they fit one command) and the cell search with the armadillo. name: (runs, estimate in seconds
+    # on an H200).
+    "whole-run-1.04M": (["dambreak-1.04M-wendland-lists", "dambreak-1.04M-cubic-lists"], 95),
+    "whole-run-1.04M-cells": (["dambreak-1.04M-wendland-cells", "dambreak-1.04M-cubic-cells", "armadillo-2980K-lists",
+                               "armadillo-2980K-cells"], 200),
+    "whole-run-4.04M": (["dambreak-4.04M-wendland-lists", "dambreak-4.04M-cubic-lists"], 180),
+    "whole-run-4.04M-cells": (["dambreak-4.04M-wendland-cells", "dambreak-4.04M-cubic-cells"], 250),
 }
 
 
@@ -472,8 +483,7 @@ def items(gpus=1):
         # new build of ours, so that the comparison is always of one lease (issue 12).
         Item("dualsphysics", "DualSPHysics v5.4 on the same dam breaks ($DSPH/run.sh)", "single", 90, ["sphbench"],
              run_dualsphysics, outputs=["dualsphysics/summary.txt"],
-             needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "run.sh").is_file()
-             else "DSPH (DualSPHysics' anchor folder with run.sh) is not set"),
+             needs=needs_dsph("run.sh")),
         Item("force-loop-bench", "force loop per search strategy (sph_bench)", "single", 60, ["sph_bench"],
              run_force_loop_bench, outputs=["force_loop_bench.json"]),
         Item("skip-bench", "what skipping unneeded work saves (sph_skip_bench)", "single", 60, ["sph_skip_bench"],
@@ -491,15 +501,14 @@ def items(gpus=1):
              ["sphbench", "sphbench-f64"], run_accuracy, inputs=["experiments/accuracy.toml"],
              outputs=["accuracy/runs.csv"]),
         *[Item(group, f"whole events of experiments/whole-run.toml: {', '.join(ids)}", "single",
-               {"whole-run-1.04M": 95, "whole-run-1.04M-cells": 200, "whole-run-4.04M": 180, "whole-run-4.04M-cells": 250}[group], ["sphbench"], run_whole_run(ids),
+               estimate, ["sphbench"], run_whole_run(ids),
                inputs=["experiments/whole-run.toml"], outputs=[f"whole-run/{i}.runs.csv" for i in ids])
-          for group, ids in WHOLE_RUN_GROUPS.items()],
+          for group, (ids, estimate) in WHOLE_RUN_GROUPS.items()],
         *[Item(name, f"DualSPHysics v5.4 on the dam break {name.rsplit('-', 1)[1]}'s whole event (0 to {tmax} s)",
-               "single", {"whole-run-dualsphysics-1.04M": 220, "whole-run-dualsphysics-4.04M": 330}[name], ["sphbench"],
+               "single", estimate, ["sphbench"],
                run_whole_run_dualsphysics(tmax, cases), outputs=[f"whole-run-dualsphysics/summary-tmax-{tmax}.tsv"],
-               needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "run.sh").is_file()
-               else "DSPH (DualSPHysics' anchor folder with run.sh) is not set")
-          for name, (tmax, cases) in WHOLE_RUN_DSPH.items()],
+               needs=needs_dsph("run.sh"))
+          for name, (tmax, cases, estimate) in WHOLE_RUN_DSPH.items()],
         Item("spheric2", "SPHERIC Test 2 at three spacings, to 6 s at dp 0.02 and 0.01 (experiments/spheric2.toml, "
              "float64 build too)", "single", 420, ["sphbench", "sphbench-f64"], run_spheric2,
              inputs=["experiments/spheric2.toml", "experiments/cases/spheric-test2.toml"],
@@ -517,8 +526,7 @@ def items(gpus=1):
         Item("spheric2-dualsphysics", "DualSPHysics v5.4 on SPHERIC Test 2 at the same spacings, to 6 s at dp 0.02 "
              "and 0.01, 2 s at 0.0075", "single", 420, ["sphbench"], run_spheric2_dualsphysics,
              outputs=["spheric2-dualsphysics/summary.tsv"],
-             needs=lambda t: None if os.environ.get("DSPH") and Path(os.environ["DSPH"], "spheric2", "make_case.sh").is_file()
-             else "DSPH (DualSPHysics' anchor folder with spheric2/make_case.sh) is not set"),
+             needs=needs_dsph("spheric2", "make_case.sh")),
     ]
     estimates = {"stability-cfl": 45, "stability-still-water": 75, "stability-impact": 45, "stability-armadillo": 210}
     for s in STABILITY_STUDIES:

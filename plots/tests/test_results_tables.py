@@ -191,6 +191,14 @@ class Parsers(unittest.TestCase):
             self.assertAlmostEqual(v["vs_fastest"], 78.0 / max(ours, cubic), places=2)
             with self.assertRaises(claims.Missing):
                 claims.whole_run_vs_dualsphysics(machine, size="4.04M", tmax="0.3")
+            # With the 4.04M event there too, each size is judged by its own DualSPHysics cases only.
+            shutil.copy(machine / "whole-run" / "dambreak-1.04M-wendland-lists.runs.csv",
+                        machine / "whole-run" / "dambreak-4.04M-wendland-lists.runs.csv")
+            (machine / "whole-run-dualsphysics" / "summary-tmax-0.3.tsv").write_text(
+                "\t".join(cols) + "\n" + "\t".join(["dp0028_wendland_half", "4037948", "Wendland", "Half", "9000",
+                                                      "390.0", "700", "0"]) + "\n")
+            self.assertAlmostEqual(claims.whole_run_vs_dualsphysics(machine, size="4.04M", tmax="0.3")["fastest"], 390.0)
+            self.assertAlmostEqual(claims.whole_run_vs_dualsphysics(machine)["fastest"], 78.0)
 
 
 if __name__ == "__main__":
