@@ -185,10 +185,11 @@ def whole_run(folder):
     seen = set()
     for p in sorted(folder.glob("*.runs.csv")):
         runs, meta = sphplot.read_csv_with_metadata(p)
+        commit = str(meta.get("git_commit"))[:7]
         for r in runs.to_dict("records"):
             seen.add(r["run_id"])
-            rows.append((r, p.name))
-        sources.setdefault(str(meta.get("git_commit"))[:7], from_meta(folder, meta))
+            rows.append((r, p.name, commit))
+        sources.setdefault(commit, from_meta(folder, meta))
     for p in sorted(folder.glob("*.txt")):
         if p.name.endswith(".runs.txt") or not re.match(r"(dambreak|armadillo|bunny)", p.name):
             continue
@@ -197,14 +198,16 @@ def whole_run(folder):
         except Missing:
             continue
         if r["run_id"] not in seen:
-            rows.append((r, p.name + " (the printed summary: its runs.csv did not come back)"))
             s = from_text(folder, p)
+            rows.append((r, p.name + " (the printed summary: its runs.csv did not come back)", str(s.commit)[:7]))
             sources.setdefault(str(s.commit)[:7], s)
     if not rows:
         raise Missing(f"no run in `results/reference/{rel(folder)}`")
     theirs, dsph_source = whole_run_dualsphysics(folder)
+    # A folder that `make reference` refilled in part holds runs of several builds: each row names its own.
+    mixed = len({commit for _, _, commit in rows}) > 1
     out = []
-    for r, src in rows:
+    for r, src, commit in rows:
         reb = r.get("list_rebuilds")
         every = r["steps"] / reb if reb and np.isfinite(reb) and reb > 0 else np.nan
         row = [r["run_id"], thousands(r["particles"]), f(r["sim_time"], ".3g") + " s", thousands(r["steps"]),
@@ -217,7 +220,7 @@ def whole_run(folder):
             t = theirs.get(case)
             row += [f"{t['runtime_per_phys_s']:.2f} ({case})" if t else "-",
                     f"{t['runtime_per_phys_s'] / r['s_per_sim_s']:.2f}x" if t else "-"]
-        out.append(row + [f"`{src}`"])
+        out.append(row + [f"`{src}`" + (f" at {commit}" if mixed else "")])
     header = ["run", "particles", "simulated", "steps", "list rebuilds (every n steps)", "rebuild step ms (mean)",
               "listed step ms (mean)", "wall s", "s per simulated second", "list bytes per particle",
               "all bytes per particle", "neighbour pairs a second (G)"]
@@ -227,7 +230,7 @@ def whole_run(folder):
         header += ["DualSPHysics s per simulated second (its case)", "DualSPHysics over ours"]
         notes = [f"DualSPHysics v5.4 from `results/reference/{dsph_source.path}` (its Run.out's \"Runtime per physical "
                  "second\", on the same GPU as ours: `make reference`'s items whole-run-dualsphysics-1.04M and -4.04M, "
-                 "each in the call that ran ours at that size); its settings are the case named (its defaults: cubic on "
+                 "on the machine that ran ours, in the same lease); its settings are the case named (its defaults: cubic on "
                  "cells of the support; Wendland on half cells), beside both of our searches. Its GPU memory: "
                  + ", ".join(f"{c} {t['bytes_per_particle']:.0f} bytes a particle" for c, t in sorted(theirs.items()))
                  + " (the resume's \"GPU Memory\" over its particles)."]
