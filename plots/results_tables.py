@@ -205,7 +205,7 @@ def whole_run(folder):
         raise Missing(f"no run in `results/reference/{rel(folder)}`")
     theirs, dsph_source = whole_run_dualsphysics(folder)
     # A folder that `make reference` refilled in part holds runs of several builds: each row names its own.
-    mixed = len({commit for _, _, commit in rows}) > 1
+    mixed = len(sources) > 1
     out = []
     for r, src, commit in rows:
         reb = r.get("list_rebuilds")

@@ -200,27 +200,27 @@ class Parsers(unittest.TestCase):
             self.assertAlmostEqual(claims.whole_run_vs_dualsphysics(machine, size="4.04M", tmax="0.3")["fastest"], 390.0)
             self.assertAlmostEqual(claims.whole_run_vs_dualsphysics(machine)["fastest"], 78.0)
 
-
     def test_a_folder_of_several_builds_names_the_build_of_each_row(self):
         """A results folder that `make reference` refilled in part (some runs rerun, some not) names
         each row's build in its "from" cell; a folder of one build does not."""
+        def stamp(path, digit):
+            path.write_text(re.sub(r"(# git_commit: )[0-9a-f]+", r"\g<1>" + digit * 40, path.read_text()))
+
         with tempfile.TemporaryDirectory() as tmp:
             folder = Path(tmp) / "reference" / "h100" / "whole-run"
             shutil.copytree(rt.REFERENCE / "h100" / "whole-run", folder)
             csvs = sorted(folder.glob("*.runs.csv"))
-            commits = {}
             for p in csvs:  # one build everywhere first
-                p.write_text(re.sub(r"(# git_commit: )[0-9a-f]+", r"\g<1>" + "1" * 40, p.read_text()))
+                stamp(p, "1")
             table = rt.whole_run(folder)
             src = table.header.index("from")
             self.assertTrue(all(" at " not in r[src] for r in table.rows))
-            rerun = csvs[0]
-            rerun.write_text(re.sub(r"(# git_commit: )[0-9a-f]+", r"\g<1>" + "2" * 40, rerun.read_text()))
+            stamp(csvs[0], "2")
             table = rt.whole_run(folder)
-            for r in table.rows:
-                commits[r[src].split("`")[1]] = r[src].rsplit(" at ", 1)[-1]
-            self.assertEqual(commits[rerun.name], "2222222")
-            self.assertEqual({c for n, c in commits.items() if n != rerun.name}, {"1111111"})
+            commits = {r[src].split("`")[1]: r[src].rsplit(" at ", 1)[-1] for r in table.rows}
+            self.assertEqual(commits[csvs[0].name], "2222222")
+            self.assertEqual({c for n, c in commits.items() if n != csvs[0].name}, {"1111111"})
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=1)
