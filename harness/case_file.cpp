@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
+#include <new>
 
 #undef TOML_HEADER_ONLY
 #define TOML_HEADER_ONLY 1
@@ -99,6 +101,22 @@ public:
 private:
     std::string path_;
 };
+
+// build(), with running out of memory while placing the particles (std::bad_alloc from deep
+// inside a fill) told as one sentence naming the scene and the options that sized it. No
+// particle count is known before the fill for every scene, and a bound from the tank's
+// lattice would refuse scenes that fit, so the refusal comes when the memory does.
+Scene within_memory(const std::string& scene, const SettingMap& options, const std::function<Scene()>& build) {
+    try {
+        return build();
+    } catch (const std::bad_alloc&) {
+        std::string given;
+        for (const auto& [k, v] : options) given += (given.empty() ? "" : ", ") + k + "=" + v;
+        throw RunError("scene '" + scene + "' (" + (given.empty() ? "its default options" : given) +
+                       ") does not fit this machine's memory: it ran out while placing the particles; choose a "
+                       "coarser spacing ('dp') or fewer 'particles'");
+    }
+}
 
 }  // namespace
 
@@ -210,12 +228,12 @@ bool is_case_scene(const std::string& scene) { return scene.rfind(case_scene_pre
 std::string case_file_of(const std::string& scene) { return scene.substr(std::string(case_scene_prefix).size()); }
 
 Scene build_scene(const std::string& scene, const SettingMap& options) {
-    if (!is_case_scene(scene)) return make_scene(scene, options);
+    if (!is_case_scene(scene)) return within_memory(scene, options, [&] { return make_scene(scene, options); });
     const std::string path = case_file_of(scene);
     const BoxCase c = load_case_file(path);
     Scene s;
     try {
-        s = build_box_case(c, options);
+        s = within_memory(path, options, [&] { return build_box_case(c, options); });
     } catch (const InputError& e) {
         const std::string m = e.what();
         throw InputError(m.rfind(path, 0) == 0 ? m : path + ": " + m);  // every message names the file

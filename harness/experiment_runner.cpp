@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <new>
 #include <set>
 
 #include "core/error.hpp"
@@ -214,6 +215,9 @@ std::vector<std::string> run_one(const ExperimentSpec& spec, const PlannedRun& r
         throw InputError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
     } catch (const RunError& e) {
         throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
+    } catch (const std::bad_alloc&) {  // arrays that grew during the run (see sphbench.cpp)
+        throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: it ran out of host memory during the "
+                       "run; choose a coarser spacing ('dp') or fewer 'particles'");
     }
     std::string steps_file;
     for (const auto& f : result.files) {

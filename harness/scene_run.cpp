@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <new>
 #include <optional>
 
 #include "case_file.hpp"
@@ -69,7 +70,17 @@ SceneRunResult run_scene(const SceneRunRequest& request) {
         res.search_choice = "chose " + search_label(cal.best) + "; " + res.search_choice;
         if (!cal.verlet_skipped.empty()) res.search_choice += " (no Verlet lists: " + cal.verlet_skipped + ")";
     }
-    Simulation sim(scene, solver);
+    std::optional<Simulation> started;
+    try {
+        started.emplace(scene, solver);
+    } catch (const std::bad_alloc&) {
+        // One sentence instead of "std::bad_alloc"; a GPU's memory is checked before it is
+        // allocated (make_cuda_subdomain), the host's only fails.
+        throw RunError("scene '" + req.scene + "' (" + std::to_string(scene.size()) +
+                       " particles) does not fit this machine's host memory: it ran out while allocating the run's "
+                       "particle arrays; choose a coarser spacing ('dp') or fewer 'particles'");
+    }
+    Simulation& sim = *started;
     res.device = sim.device_name();
     res.transport = sim.transport_name();
     if (!sim.transport_note().empty()) res.transport += " (" + sim.transport_note() + ")";

@@ -1,5 +1,6 @@
 // sphbench: the project's one program. Subcommands run scenes, experiments and comparisons.
 #include <cstdio>
+#include <new>
 #include <string>
 
 #include "commands.hpp"
@@ -47,6 +48,11 @@ int run(int argc, char** argv) {
         return fail(e.what(), sph::exit_usage);
     } catch (const sph::RunError& e) {
         return fail(e.what(), sph::exit_run_failed);
+    } catch (const std::bad_alloc&) {
+        // Past the scene's and the run's start (which name the scene): arrays that grew during
+        // the run, such as neighbour lists on the host.
+        return fail("ran out of host memory during the run; choose a coarser spacing ('dp') or fewer 'particles'",
+                    sph::exit_run_failed);
     } catch (const std::exception& e) {
         return fail(e.what(), sph::exit_run_failed);
     }
