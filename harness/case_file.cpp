@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "experiment_spec.hpp"
+#include "out_of_memory.hpp"
 #include "toml_type_name.hpp"
 #include "value_range.hpp"
 
@@ -113,8 +114,8 @@ Scene within_memory(const std::string& scene, const SettingMap& options, const s
         std::string given;
         for (const auto& [k, v] : options) given += (given.empty() ? "" : ", ") + k + "=" + v;
         throw RunError("scene '" + scene + "' (" + (given.empty() ? "its default options" : given) +
-                       ") does not fit this machine's memory: it ran out while placing the particles; choose a "
-                       "coarser spacing ('dp') or fewer 'particles'");
+                       ") does not fit this machine's memory: it ran out while placing the particles; " +
+                       coarser_scene_advice);
     }
 }
 

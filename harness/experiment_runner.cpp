@@ -10,6 +10,7 @@
 #include "csv_table.hpp"
 #include "io/csv_writer.hpp"
 #include "multi/rank_group.hpp"
+#include "out_of_memory.hpp"
 #include "statistics.hpp"
 
 namespace sph {
@@ -216,8 +217,8 @@ std::vector<std::string> run_one(const ExperimentSpec& spec, const PlannedRun& r
     } catch (const RunError& e) {
         throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: " + e.what());
     } catch (const std::bad_alloc&) {  // arrays that grew during the run (see sphbench.cpp)
-        throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: it ran out of host memory during the "
-                       "run; choose a coarser spacing ('dp') or fewer 'particles'");
+        throw RunError("run '" + run.run_id + "' of " + spec.path + " failed: it ran out of host memory during the run; " +
+                       coarser_scene_advice);
     }
     std::string steps_file;
     for (const auto& f : result.files) {

@@ -11,6 +11,7 @@
 #include "gauge_sink.hpp"
 #include "last_good_sink.hpp"
 #include "multi/rank_group.hpp"
+#include "out_of_memory.hpp"
 #include "progress_sink.hpp"
 #include "record_blow_up.hpp"
 #include "run_loop.hpp"
@@ -78,7 +79,7 @@ SceneRunResult run_scene(const SceneRunRequest& request) {
         // allocated (make_cuda_subdomain), the host's only fails.
         throw RunError("scene '" + req.scene + "' (" + std::to_string(scene.size()) +
                        " particles) does not fit this machine's host memory: it ran out while allocating the run's "
-                       "particle arrays; choose a coarser spacing ('dp') or fewer 'particles'");
+                       "particle arrays; " + coarser_scene_advice);
     }
     Simulation& sim = *started;
     res.device = sim.device_name();

@@ -6,6 +6,7 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "multi/rank_group.hpp"
+#include "out_of_memory.hpp"
 
 namespace {
 
@@ -51,8 +52,8 @@ int run(int argc, char** argv) {
     } catch (const std::bad_alloc&) {
         // Past the scene's and the run's start (which name the scene): arrays that grew during
         // the run, such as neighbour lists on the host.
-        return fail("ran out of host memory during the run; choose a coarser spacing ('dp') or fewer 'particles'",
-                    sph::exit_run_failed);
+        const std::string what = std::string("ran out of host memory during the run; ") + sph::coarser_scene_advice;
+        return fail(what.c_str(), sph::exit_run_failed);
     } catch (const std::exception& e) {
         return fail(e.what(), sph::exit_run_failed);
     }
