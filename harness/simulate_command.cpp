@@ -119,7 +119,7 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
     cmd->add_option("--set", args->settings, "scene option key=value (repeatable), e.g. particles=2980000");
     cmd->footer(
         "Case files (scene case:FILE.toml; experiments/cases/README.md): [case] dp, description, domain or "
-        "domain_top, and scene options (kernel, c0_factor, alpha, delta, gravity, rho0, coef_h, cfl); [case.tank] "
+        "domain_top, and scene options (kernel, c0_factor, alpha, delta, density_diffusion, gravity, rho0, coef_h, cfl); [case.tank] "
         "min, max, open_top, layers, name; [[case.fluid]] min, max, hydrostatic, velocity; [[case.obstacle]] name, "
         "min, max, layers; [[case.mesh]] file, height, min, up. Lengths in metres; --set dp=... and the scene "
         "options override the file's.");

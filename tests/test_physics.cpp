@@ -31,6 +31,7 @@ struct ForceCase {
     BackendKind backend;
     int n;
     bool merge;
+    bool diffusion_beside_walls;
 };
 class Forces : public ::testing::TestWithParam<ForceCase> {};
 
@@ -40,6 +41,10 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
         GTEST_SKIP() << "no CUDA GPU on this machine (CI has none)";
     Scene s = test::random_scene(1200, 300, 0.25, 0.02, 42u, 0.0, 0.5);
     s.params.gravity = {0, real(-3), real(-9.81)};
+    s.params.diffusion_beside_walls = fc.diffusion_beside_walls;
+    // The walls in a floor slab (the lowest fifth), so that some fluid particles have a wall
+    // inside their support and the others none: the diffusion's wall rule acts on both kinds.
+    for (std::size_t k = 0; k < s.n_boundary; ++k) s.position[k][2] *= 0.2;
     const Grid g = make_grid(s.lo.data(), s.hi.data(), s.params.support, fc.n);
     const SubdomainConfig cfg{s.params, g.view, s.kernel, true, {fc.n, fc.merge}};
     auto d = fc.backend == BackendKind::cuda ? make_cuda_subdomain(cfg, s.size(), 0) : make_host_subdomain(cfg, s.size());
@@ -71,9 +76,11 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
     const double gravity[3] = {p.gravity.x, p.gravity.y, p.gravity.z};
     auto pressure = [&](double r) { return B * (std::pow(r / p.rho0, 7) - 1); };
     double err_a = 0, norm_a = 0, err_d = 0, norm_d = 0;
+    std::size_t beside_walls = 0;  // fluid particles with a wall inside their support
     for (std::size_t i = 0; i < n; ++i) {
         const bool fi = i >= s.n_boundary;
-        double acc[3] = {0, 0, 0}, drho = 0;
+        double acc[3] = {0, 0, 0}, drho = 0, diffusion = 0;
+        bool near_wall = false;
         for (std::size_t j = 0; j < n; ++j) {
             const bool fj = j >= s.n_boundary;
             if (i == j || (!fi && !fj)) continue;
@@ -90,7 +97,9 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
             drho += m * f * vr;
             // Fourtakas et al.: only the density difference beyond the hydrostatic one diffuses.
             const double dynamic = old[i][3] - old[j][3] - p.rho0 * gr / (c0 * c0);
-            if (fi && fj) drho += 2 * p.delta * h * c0 * m * dynamic / old[j][3] * r2 * f / (r2 + eta2);
+            if (fi && fj) diffusion += 2 * p.delta * h * c0 * m * dynamic / old[j][3] * r2 * f / (r2 + eta2);
+            // DualSPHysics' DensityDT 2: a wall inside the support takes all of i's diffusion away.
+            if (fi && !fj) near_wall = true;
             if (fi) {
                 const double pi =
                     old_vr < 0 ? -p.alpha * h * c0 * old_vr / ((r2 + eta2) * 0.5 * (rho[i] + rho[j])) : 0;
@@ -98,6 +107,8 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
                 for (int k = 0; k < 3; ++k) acc[k] -= m * c * f * r[k];
             }
         }
+        if (!near_wall || p.diffusion_beside_walls) drho += diffusion;
+        beside_walls += near_wall;
         for (int k = 0; k < 3; ++k) {
             if (fi) acc[k] += gravity[k];
             err_a += (fast[i][k] - acc[k]) * (fast[i][k] - acc[k]);
@@ -108,20 +119,27 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
     }
     ASSERT_GT(norm_a, 0);
     ASSERT_GT(norm_d, 0);
-    std::printf("forces against float64 (%s, n = %d, merge = %d): relative RMS error %.3g (acceleration), %.3g "
-                "(density rate)\n",
-                fc.backend == BackendKind::cuda ? "cuda" : "host", fc.n, int(fc.merge), std::sqrt(err_a / norm_a),
-                std::sqrt(err_d / norm_d));
+    // Both kinds of fluid particle must be there for the diffusion's wall rule to be tested.
+    ASSERT_GT(beside_walls, 0u);
+    ASSERT_LT(beside_walls, n - s.n_boundary);
+    std::printf("forces against float64 (%s, n = %d, merge = %d, diffusion beside walls = %d; %zu of %zu fluid "
+                "particles beside walls): relative RMS error %.3g (acceleration), %.3g (density rate)\n",
+                fc.backend == BackendKind::cuda ? "cuda" : "host", fc.n, int(fc.merge), int(fc.diffusion_beside_walls),
+                beside_walls, n - s.n_boundary, std::sqrt(err_a / norm_a), std::sqrt(err_d / norm_d));
     EXPECT_LT(std::sqrt(err_a / norm_a), 1e-4);
     EXPECT_LT(std::sqrt(err_d / norm_d), 1e-4);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Forces,
-                         ::testing::Values(ForceCase{BackendKind::host, 1, false}, ForceCase{BackendKind::cuda, 1, false},
-                                           ForceCase{BackendKind::cuda, 2, true}),
+                         ::testing::Values(ForceCase{BackendKind::host, 1, false, false},
+                                           ForceCase{BackendKind::host, 1, false, true},
+                                           ForceCase{BackendKind::cuda, 1, false, false},
+                                           ForceCase{BackendKind::cuda, 1, false, true},
+                                           ForceCase{BackendKind::cuda, 2, true, false}),
                          [](const auto& info) {
                              return std::string(info.param.backend == BackendKind::cuda ? "cuda" : "host") + "_n" +
-                                    std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells");
+                                    std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
+                                    (info.param.diffusion_beside_walls ? "_diffusion_beside_walls" : "");
                          });
 
 TEST(Conservation, MomentumAndMassWithoutWallsOrGravity) {

@@ -522,6 +522,11 @@ def items(gpus=1):
              "(experiments/spheric2-p1-finest.toml)", "single", 450, ["sphbench"], sphbench_run("spheric2-p1-finest"),
              inputs=["experiments/spheric2-p1-finest.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2-p1-finest/runs.csv"]),
+        Item("spheric2-diffusion-walls", "SPHERIC Test 2 to 2 s at dp 0.02 and 0.01 with DualSPHysics' DensityDT 2 "
+             "and 3 (experiments/spheric2-diffusion-walls.toml)", "single", 110, ["sphbench"],
+             sphbench_run("spheric2-diffusion-walls"),
+             inputs=["experiments/spheric2-diffusion-walls.toml", "experiments/cases/spheric-test2.toml"],
+             outputs=["spheric2-diffusion-walls/runs.csv"]),
         # sphbench in its stamp, as the dam breaks': DualSPHysics reruns beside every new build of ours.
         Item("spheric2-dualsphysics", "DualSPHysics v5.4 on SPHERIC Test 2 at the same spacings, to 6 s at dp 0.02 "
              "and 0.01, 2 s at 0.0075", "single", 420, ["sphbench"], run_spheric2_dualsphysics,

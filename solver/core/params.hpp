@@ -15,6 +15,12 @@ struct PhysicsParams {
     real alpha = 0.1;       // Monaghan artificial viscosity coefficient
     real nu = 0;            // kinematic viscosity of the laminar (Lo and Shao) term, m^2/s (0: off)
     real delta = 0.1;       // delta-SPH density diffusion coefficient (0: off)
+    // Where the diffusion acts, DualSPHysics' two Fourtakas forms: false is its DensityDT 2,
+    // the one its dam-break cases use, where a fluid particle with a wall particle inside its
+    // support takes no diffusion at all (JSphGpu_ker.cu: deltap1 = FLT_MAX at the first wall
+    // neighbour); true is DensityDT 3 ("full"), diffusion from the fluid neighbours whatever
+    // the walls.
+    bool diffusion_beside_walls = false;
     real shift = 0;         // particle shifting coefficient A, dr = -A h |v|max dt grad C (0: off)
     real eta2 = 0;          // 0.01 h^2, keeps viscosity and diffusion finite at r -> 0
     real3 gravity{0, 0, -9.81};

@@ -4,7 +4,10 @@
 // The diffusion of Molteni and Colagrossi (2009) acts on the density difference less its
 // hydrostatic part (Fourtakas et al. 2019, linearised: rho_i^H - rho_j^H = rho0 g . r_ij / c0^2,
 // from dP = rho0 g . dr and dP/drho = c0^2 near rho0). Diffusing the whole difference would
-// flatten the hydrostatic density gradient: a settled tank reads low at the floor.
+// flatten the hydrostatic density gradient: a settled tank reads low at the floor. As in
+// DualSPHysics' DensityDT 2, a fluid particle with a wall particle inside its support takes
+// none of it (p.diffusion_beside_walls: its DensityDT 3 keeps it), so the diffusion is summed
+// apart from the continuity term and added, or not, once the particle's pairs are done.
 //   momentum    dv_i/dt    = -sum_j m (P_i/rho_i^2 + P_j/rho_j^2 + Pi_ij) grad W_ij + g
 // with Monaghan's artificial viscosity Pi_ij, plus, when nu > 0, the laminar viscosity of
 // Lo and Shao (2002) (Morris et al. 1997 with a constant nu):
@@ -54,10 +57,13 @@ SPH_HD ParticleSide particle_side(const ForceInputs& in, std::uint32_t i) {
     return {in.pos[i], in.velrho[i], in.velrho_prev[i]};
 }
 
-// One pair's contribution to particle i: acceleration and d rho / dt.
+// One pair's contribution to particle i: acceleration, d rho / dt of the continuity term, the
+// density diffusion's part of it (fluid pairs only), and whether j is a wall beside fluid i.
 struct PairTerms {
     real3 acc;
     real drho;
+    real diffusion = 0;
+    bool wall_j = false;
 };
 
 // The pair body: the terms of one pair (i, j) inside the support that is not boundary-boundary,
@@ -94,13 +100,14 @@ struct PairBody {
         const real fac = kernel.grad_factor(sqrt_r(r2));
         PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij)};  // m (v_ij . r_ij) F, grad W = r_ij F
         if (!a.fluid()) return t;
+        t.wall_j = !fluid_j;
         const real rho_i = density(a.vr), rho_j = density(vr_j);
         // Boundary particles never change velocity, and their old density is not read: skip
         // the load (walls are half of some scenes' neighbours).
         const real4 old_j = fluid_j ? in.velrho_prev[j] : vr_j;
         if (Diffusion && fluid_j) {
             const real old_rho_j = density(old_j);
-            t.drho += fast_divide(fast_divide(diffusion_coef * (density(a.old) - old_rho_j - dot(hydrostatic_drho, rij)),
+            t.diffusion = fast_divide(fast_divide(diffusion_coef * (density(a.old) - old_rho_j - dot(hydrostatic_drho, rij)),
                                               old_rho_j) * r2 * fac,
                                   r2 + p.eta2);
         }
@@ -127,15 +134,22 @@ struct PairTotals {
     bool fluid_i;
     real3 acc{0, 0, 0};
     real drho = 0;
+    real diffusion = 0;      // fluid i: the density diffusion, summed apart
+    bool near_wall = false;  // fluid i: some wall particle inside its support
     SPH_HD_INLINE void accumulate(const PairTerms& t) {
         if (fluid_i) {
             drho += t.drho;
+            diffusion += t.diffusion;
+            near_wall |= t.wall_j;
             acc += t.acc;
         } else {
             drho = add_uncontracted(drho, t.drho);
         }
     }
-    SPH_HD real4 result(const PhysicsParams& p) const { return make4(fluid_i ? acc + p.gravity : acc, drho); }
+    SPH_HD real4 result(const PhysicsParams& p) const {
+        if (!fluid_i) return make4(acc, drho);
+        return make4(acc + p.gravity, near_wall && !p.diffusion_beside_walls ? drho : drho + diffusion);
+    }
 };
 
 // The sums over one particle's neighbours. add() takes one candidate j and the separation

@@ -123,8 +123,8 @@ struct Column {
 }  // namespace
 
 const std::vector<std::string>& box_case_option_keys() {
-    static const std::vector<std::string> keys = {"dp",    "kernel",  "c0_factor", "alpha", "delta",
-                                                  "gravity", "rho0", "coef_h",    "cfl"};
+    static const std::vector<std::string> keys = {"dp",      "kernel", "c0_factor", "alpha", "delta", "density_diffusion",
+                                                  "gravity", "rho0",   "coef_h",    "cfl"};
     return keys;
 }
 

@@ -80,6 +80,11 @@ void set_common_physics(Scene& s, SceneOptions& opt, double c0, const char* defa
     p.c0 = real(c0);
     p.alpha = real(opt.number("alpha", 0.1, 0, 10));
     p.delta = real(opt.number("delta", 0.1, 0, 1));
+    // DualSPHysics' DensityDT 2 ("fourtakas", its dam break's) or 3 ("fourtakas-full"): params.hpp.
+    const std::string diffusion = opt.text("density_diffusion", "fourtakas");
+    if (diffusion == "fourtakas") p.diffusion_beside_walls = false;
+    else if (diffusion == "fourtakas-full") p.diffusion_beside_walls = true;
+    else throw InputError("option 'density_diffusion' must be 'fourtakas' or 'fourtakas-full', got '" + diffusion + "'");
     p.gravity = {0, 0, real(-opt.number("gravity", 9.81, 0, 1e3))};
     const std::string k = opt.text("kernel", default_kernel);
     if (k == "wendland") s.kernel = KernelType::wendland;
