@@ -26,7 +26,7 @@ struct PairQueueStorage {
     std::uint32_t j[capacity];
     std::uint32_t meta[capacity];  // owner lane | (dx + 8) << 5 | (dy + 8) << 9 | (dz + 8) << 13
     real4 terms[32];               // the drained batch's pair terms (acc, drho), by batch position
-    real diffusion[32];            // and their density diffusion
+    real diffusion[32];            // and their density diffusion (PairTerms)
     std::uint32_t owned[32];       // per owner lane: the batch positions holding its pairs
 };
 
@@ -71,7 +71,6 @@ private:
         s_.owned[lane_] = 0;
         __syncwarp();
         unsigned owner = 32;  // none
-        bool wall_j = false;
         if (lane_ < count) {
             const unsigned slot = (head_ + lane_) % PairQueueStorage::capacity;
             const std::uint32_t j = s_.j[slot], meta = s_.meta[slot];
@@ -82,16 +81,14 @@ private:
             const PairTerms t = body_.terms(a, j, body_.in.velrho[j], rij, dot(rij, rij));
             s_.terms[lane_] = make4(t.acc, t.drho);
             s_.diffusion[lane_] = t.diffusion;
-            wall_j = t.wall_j;
         }
-        const unsigned walls = __ballot_sync(full_warp, wall_j);  // by batch position, as terms
         const unsigned same_owner = __match_any_sync(full_warp, owner);
         if (owner < 32 && lane_ == unsigned(lowest_set_bit(same_owner))) s_.owned[owner] = same_owner;
         __syncwarp();
         for (std::uint32_t mine = s_.owned[lane_]; mine != 0; mine &= mine - 1) {
             const int k = lowest_set_bit(mine);
             const real4 t = s_.terms[k];
-            totals.accumulate(PairTerms{xyz(t), t.w, s_.diffusion[k], (walls >> k & 1u) != 0});
+            totals.accumulate(PairTerms{xyz(t), t.w, s_.diffusion[k]});
         }
         __syncwarp();  // the next drain reuses terms and owned
         head_ += count;

@@ -57,13 +57,15 @@ SPH_HD ParticleSide particle_side(const ForceInputs& in, std::uint32_t i) {
     return {in.pos[i], in.velrho[i], in.velrho_prev[i]};
 }
 
-// One pair's contribution to particle i: acceleration, d rho / dt of the continuity term, the
-// density diffusion's part of it (fluid pairs only), and whether j is a wall beside fluid i.
+// One pair's contribution to particle i: acceleration, d rho / dt of the continuity term, and
+// the density diffusion's part of it, kept apart: a fluid pair's term, or for a wall j beside
+// fluid i, under DensityDT 2, infinity, which no finite sum undoes and which drops i's whole
+// diffusion at the end (PairTotals::result), as DualSPHysics' FLT_MAX does. A flag of its own
+// cost the GPU's force loops a register each and made three of them spill (make perf-check).
 struct PairTerms {
     real3 acc;
     real drho;
     real diffusion = 0;
-    bool wall_j = false;
 };
 
 // The pair body: the terms of one pair (i, j) inside the support that is not boundary-boundary,
@@ -100,7 +102,6 @@ struct PairBody {
         const real fac = kernel.grad_factor(sqrt_r(r2));
         PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij)};  // m (v_ij . r_ij) F, grad W = r_ij F
         if (!a.fluid()) return t;
-        t.wall_j = !fluid_j;
         const real rho_i = density(a.vr), rho_j = density(vr_j);
         // Boundary particles never change velocity, and their old density is not read: skip
         // the load (walls are half of some scenes' neighbours).
@@ -110,6 +111,8 @@ struct PairBody {
             t.diffusion = fast_divide(fast_divide(diffusion_coef * (density(a.old) - old_rho_j - dot(hydrostatic_drho, rij)),
                                               old_rho_j) * r2 * fac,
                                   r2 + p.eta2);
+        } else if (Diffusion && !p.diffusion_beside_walls) {
+            t.diffusion = real(INFINITY);
         }
         const real3 old_vij = xyz(a.old) - xyz(old_j);
         const real old_vdotr = dot(old_vij, rij);
@@ -134,13 +137,11 @@ struct PairTotals {
     bool fluid_i;
     real3 acc{0, 0, 0};
     real drho = 0;
-    real diffusion = 0;      // fluid i: the density diffusion, summed apart
-    bool near_wall = false;  // fluid i: some wall particle inside its support
+    real diffusion = 0;  // fluid i: the density diffusion, summed apart (infinite: dropped)
     SPH_HD_INLINE void accumulate(const PairTerms& t) {
         if (fluid_i) {
             drho += t.drho;
             diffusion += t.diffusion;
-            near_wall |= t.wall_j;
             acc += t.acc;
         } else {
             drho = add_uncontracted(drho, t.drho);
@@ -148,7 +149,7 @@ struct PairTotals {
     }
     SPH_HD real4 result(const PhysicsParams& p) const {
         if (!fluid_i) return make4(acc, drho);
-        return make4(acc + p.gravity, near_wall && !p.diffusion_beside_walls ? drho : drho + diffusion);
+        return make4(acc + p.gravity, diffusion < real(INFINITY) ? drho + diffusion : drho);
     }
 };
 
