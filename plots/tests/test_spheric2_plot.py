@@ -125,6 +125,24 @@ def test_errors(root):
     return measured_path
 
 
+def test_series_gaps():
+    # Ours 10 mm above DualSPHysics' at every probe before 1 s and 30 mm after; a run at another
+    # spacing, and DualSPHysics' own series, give no row.
+    t = np.round(np.arange(0.0, 2.0001, 0.005), 6)
+    base = {p: (t, 0.1 + 0.05 * np.sin(t)) for p in spheric2.PROBES}
+    ours = {p: (t, h + np.where(t < 1.0, 0.01, 0.03)) for p, (t, h) in base.items()}
+    ours["H3"] = (t, np.where(t < 0.5, np.nan, ours["H3"][1]))  # dry at first: read at the floor
+    histories = {("ours", "dp0.02-wendland-lists"): ours, ("ours", "dp0.01-wendland-lists"): ours,
+                 ("DualSPHysics", "dp0.02"): base}
+    rows = spheric2.series_gaps(histories)
+    assert [r["run"] for r in rows] == ["dp0.02-wendland-lists"], rows
+    r = rows[0]
+    assert abs(r["H1_1-2"] - 0.03) < 1e-9 and abs(r["H4_1-2"] - 0.03) < 1e-9, r
+    # 0-1 s: 10 mm, but the sample at exactly 1 s is on the 30 mm side.
+    assert 0.0100 < r["H1_0-1"] < 0.0105, r
+    assert r["H3_0-1"] > 0.05, r  # half the window dry: ours at the floor, theirs at ~0.1 m
+
+
 def test_window_means():
     """The 5 ms mean is the signal's, whatever the sampling: a 500 Hz ringing (the period of our
     impact's at dp 0.0075) sampled at every step of 50 us and every 1 ms gives the same means as
@@ -216,6 +234,8 @@ def main():
             print("ok   errors against known answers")
             test_window_means()
             print("ok   5 ms means of the signal, whatever its sampling")
+            test_series_gaps()
+            print("ok   our water heights less DualSPHysics' at the same spacing, by window")
             test_six_seconds()
             print("ok   errors over 0-6 s for a 6 s run only")
             test_box_loads(root, measured)
