@@ -94,7 +94,7 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
             }
             if (r2 >= 4 * h * h) continue;
             const double f = wendland_grad_factor(std::sqrt(r2), h);
-            drho += m * f * vr;
+            drho += m * f * vr * rho[i] / rho[j];  // DualSPHysics' continuity form
             // Fourtakas et al.: only the density difference beyond the hydrostatic one diffuses.
             const double dynamic = old[i][3] - old[j][3] - p.rho0 * gr / (c0 * c0);
             if (fi && fj) diffusion += 2 * p.delta * h * c0 * m * dynamic / old[j][3] * r2 * f / (r2 + eta2);
@@ -103,7 +103,7 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
             if (fi) {
                 const double pi =
                     old_vr < 0 ? -p.alpha * h * c0 * old_vr / ((r2 + eta2) * 0.5 * (rho[i] + rho[j])) : 0;
-                const double c = pressure(rho[i]) / (rho[i] * rho[i]) + pressure(rho[j]) / (rho[j] * rho[j]) + pi;
+                const double c = (pressure(rho[i]) + pressure(rho[j])) / (rho[i] * rho[j]) + pi;  // and momentum form
                 for (int k = 0; k < 3; ++k) acc[k] -= m * c * f * r[k];
             }
         }

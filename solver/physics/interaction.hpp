@@ -1,6 +1,7 @@
 #pragma once
-// The pair interaction of weakly compressible SPH, written once for both backends:
-//   continuity  d rho_i/dt = sum_j m (v_i - v_j) . grad W_ij   (+ delta-SPH diffusion, fluid pairs)
+// The pair interaction of weakly compressible SPH, written once for both backends, in
+// DualSPHysics' forms (JSphGpu_ker.cu, v5.4):
+//   continuity  d rho_i/dt = sum_j m (rho_i / rho_j) (v_i - v_j) . grad W_ij   (+ delta-SPH diffusion, fluid pairs)
 // The diffusion of Molteni and Colagrossi (2009) acts on the density difference less its
 // hydrostatic part (Fourtakas et al. 2019, linearised: rho_i^H - rho_j^H = rho0 g . r_ij / c0^2,
 // from dP = rho0 g . dr and dP/drho = c0^2 near rho0). Diffusing the whole difference would
@@ -8,7 +9,7 @@
 // DualSPHysics' DensityDT 2, a fluid particle with a wall particle inside its support takes
 // none of it (p.diffusion_beside_walls: its DensityDT 3 keeps it), so the diffusion is summed
 // apart from the continuity term and added, or not, once the particle's pairs are done.
-//   momentum    dv_i/dt    = -sum_j m (P_i/rho_i^2 + P_j/rho_j^2 + Pi_ij) grad W_ij + g
+//   momentum    dv_i/dt    = -sum_j m ((P_i + P_j) / (rho_i rho_j) + Pi_ij) grad W_ij + g
 // with Monaghan's artificial viscosity Pi_ij, plus, when nu > 0, the laminar viscosity of
 // Lo and Shao (2002) (Morris et al. 1997 with a constant nu):
 //   dv_i/dt  += sum_j m 4 nu (r_ij . grad W_ij) / ((rho_i + rho_j)(r_ij^2 + eta^2)) v_ij
@@ -100,9 +101,12 @@ struct PairBody {
                                        const real4& vr_j, const real3& rij, real r2) const {
         const bool fluid_j = !is_boundary(vr_j);
         const real fac = kernel.grad_factor(sqrt_r(r2));
-        PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij)};  // m (v_ij . r_ij) F, grad W = r_ij F
-        if (!a.fluid()) return t;
         const real rho_i = density(a.vr), rho_j = density(vr_j);
+        const real inv_rho_j = fast_divide(real(1), rho_j);
+        const real rho_i_over_j = rho_i * inv_rho_j;
+        // m (rho_i / rho_j) (v_ij . r_ij) F, grad W = r_ij F: DualSPHysics' continuity form.
+        PairTerms t{{0, 0, 0}, p.mass * fac * dot(xyz(a.vr) - xyz(vr_j), rij) * rho_i_over_j};
+        if (!a.fluid()) return t;
         // Boundary particles never change velocity, and their old density is not read: skip
         // the load (walls are half of some scenes' neighbours).
         const real4 old_j = fluid_j ? in.velrho_prev[j] : vr_j;
@@ -118,7 +122,11 @@ struct PairBody {
         const real old_vdotr = dot(old_vij, rij);
         real pi_ij = 0;
         if (old_vdotr < 0) pi_ij = fast_divide(-visc_coef * old_vdotr, (r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
-        const real s = -p.mass * (a.pos.w + pressure_j() + pi_ij) * fac;
+        // DualSPHysics' momentum form, (P_i + P_j) / (rho_i rho_j), from the P / rho^2 each
+        // particle carries: P_i/rho_i^2 (rho_i / rho_j) + P_j/rho_j^2 (rho_j / rho_i).
+        // (1 / rho_i is the same for all of i's pairs: the compiler takes it out of the loop.)
+        const real prs = a.pos.w * rho_i_over_j + pressure_j() * rho_j * fast_divide(real(1), rho_i);
+        const real s = -p.mass * (prs + pi_ij) * fac;
         t.acc = s * rij;
         // A uniform runtime branch rather than a template flag: compiling the laminar term
         // out would double the force kernels' instantiations (kernel x search x diffusion)
