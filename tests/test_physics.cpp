@@ -21,6 +21,14 @@ double wendland_grad_factor(double r, double h) {
     return 21.0 / (16.0 * M_PI * h * h * h) * -5.0 * t * t * t / (h * h);
 }
 
+// The cubic spline's shape (W without its 1 / (pi h^3)) and dW/dr / r, in double.
+double cubic_shape(double q) { return q < 1 ? 1 - 1.5 * q * q + 0.75 * q * q * q : q < 2 ? 0.25 * (2 - q) * (2 - q) * (2 - q) : 0; }
+double cubic_grad_factor(double r, double h) {
+    const double q = r / h, norm = 1 / (M_PI * h * h * h);
+    if (q >= 2) return 0;
+    return q < 1 ? norm * (-3 + 2.25 * q) / (h * h) : norm * -0.75 * (2 - q) * (2 - q) / (h * r);
+}
+
 // The pressure and continuity terms read the current state, the dissipative ones (artificial
 // viscosity, density diffusion with its hydrostatic correction) the previous step's: the two
 // are drawn independently here, so a term reading the wrong one shows.
@@ -32,6 +40,7 @@ struct ForceCase {
     int n;
     bool merge;
     bool diffusion_beside_walls;
+    bool cubic = false;  // the cubic spline (with its tensile correction), else Wendland
 };
 class Forces : public ::testing::TestWithParam<ForceCase> {};
 
@@ -42,6 +51,7 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
     Scene s = test::random_scene(1200, 300, 0.25, 0.02, 42u, 0.0, 0.5);
     s.params.gravity = {0, real(-3), real(-9.81)};
     s.params.diffusion_beside_walls = fc.diffusion_beside_walls;
+    if (fc.cubic) s.kernel = KernelType::cubic;
     // The walls in a floor slab (the lowest fifth), so that some fluid particles have a wall
     // inside their support and the others none: the diffusion's wall rule acts on both kinds.
     for (std::size_t k = 0; k < s.n_boundary; ++k) s.position[k][2] *= 0.2;
@@ -93,7 +103,7 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
                 gr += gravity[k] * r[k];
             }
             if (r2 >= 4 * h * h) continue;
-            const double f = wendland_grad_factor(std::sqrt(r2), h);
+            const double f = fc.cubic ? cubic_grad_factor(std::sqrt(r2), h) : wendland_grad_factor(std::sqrt(r2), h);
             drho += m * f * vr * rho[i] / rho[j];  // DualSPHysics' continuity form
             // Fourtakas et al.: only the density difference beyond the hydrostatic one diffuses.
             const double dynamic = old[i][3] - old[j][3] - p.rho0 * gr / (c0 * c0);
@@ -103,7 +113,15 @@ TEST_P(Forces, MatchABruteForceFloat64Reference) {
             if (fi) {
                 const double pi =
                     old_vr < 0 ? -p.alpha * h * c0 * old_vr / ((r2 + eta2) * 0.5 * (rho[i] + rho[j])) : 0;
-                const double c = (pressure(rho[i]) + pressure(rho[j])) / (rho[i] * rho[j]) + pi;  // and momentum form
+                double c = (pressure(rho[i]) + pressure(rho[j])) / (rho[i] * rho[j]) + pi;  // and momentum form
+                if (fc.cubic) {  // Monaghan's tensile correction, as DualSPHysics applies it
+                    const double fab = std::pow(cubic_shape(std::sqrt(r2) / h) / cubic_shape(2.0 / 3.0), 4);
+                    auto part = [&](double rho_k) {
+                        const double w = pressure(rho_k) / (rho_k * rho_k);
+                        return w * (w > 0 ? 0.01 : -0.2);
+                    };
+                    c += fab * (part(rho[i]) + part(rho[j]));
+                }
                 for (int k = 0; k < 3; ++k) acc[k] -= m * c * f * r[k];
             }
         }
@@ -135,11 +153,15 @@ INSTANTIATE_TEST_SUITE_P(Backends, Forces,
                                            ForceCase{BackendKind::host, 1, false, true},
                                            ForceCase{BackendKind::cuda, 1, false, false},
                                            ForceCase{BackendKind::cuda, 1, false, true},
-                                           ForceCase{BackendKind::cuda, 2, true, false}),
+                                           ForceCase{BackendKind::cuda, 2, true, false},
+                                           ForceCase{BackendKind::host, 1, false, false, true},
+                                           ForceCase{BackendKind::cuda, 1, false, false, true},
+                                           ForceCase{BackendKind::cuda, 2, true, false, true}),
                          [](const auto& info) {
                              return std::string(info.param.backend == BackendKind::cuda ? "cuda" : "host") + "_n" +
                                     std::to_string(info.param.n) + (info.param.merge ? "_merged" : "_cells") +
-                                    (info.param.diffusion_beside_walls ? "_diffusion_beside_walls" : "");
+                                    (info.param.diffusion_beside_walls ? "_diffusion_beside_walls" : "") +
+                                    (info.param.cubic ? "_cubic" : "");
                          });
 
 TEST(Conservation, MomentumAndMassWithoutWallsOrGravity) {

@@ -7,6 +7,7 @@ namespace sph {
 
 struct WendlandC2 {
     static constexpr const char* name = "wendland";
+    static constexpr bool tensile_correction = false;
     real inv_h, norm;  // norm = 21 / (16 pi h^3)
     SPH_HD explicit WendlandC2(real h) : inv_h(1 / h), norm(real(21.0 / (16.0 * 3.14159265358979323846)) / (h * h * h)) {}
     SPH_HD real w(real r) const {
@@ -27,6 +28,10 @@ struct WendlandC2 {
 
 struct CubicSpline {
     static constexpr const char* name = "cubic";
+    // Monaghan's (2000) correction of the tensile instability, which DualSPHysics applies
+    // with this kernel (GetKernelCubic_Tensil): the pressure term gains
+    // f^4 (R_i + R_j), f = W(r) / W(h / 1.5), R = P / rho^2 times 0.01 (P > 0) or -0.2.
+    static constexpr bool tensile_correction = true;
     real inv_h, norm;  // norm = 1 / (pi h^3)
     SPH_HD explicit CubicSpline(real h) : inv_h(1 / h), norm(real(1.0 / 3.14159265358979323846) / (h * h * h)) {}
     SPH_HD real w(real r) const {
@@ -35,6 +40,15 @@ struct CubicSpline {
         if (q < 1) return norm * (1 - real(1.5) * q * q + real(0.75) * q * q * q);
         const real t = 2 - q;
         return norm * real(0.25) * t * t * t;
+    }
+    // (W(r) / W(h / 1.5))^4, W(h / 1.5) = norm 5/9: the tensile correction's weight.
+    SPH_HD real tensile_weight(real r) const {
+        const real q = r * inv_h;
+        const real t = 2 - q;
+        const real shape = q < 1 ? 1 - real(1.5) * q * q + real(0.75) * q * q * q : q < 2 ? real(0.25) * t * t * t : real(0);
+        real f = shape * real(1.8);
+        f *= f;
+        return f * f;
     }
     // Both pieces evaluated and one selected: lanes of a warp sit on both sides of q = 1, and
     // two branches cost the GPU both paths plus their bookkeeping.

@@ -10,6 +10,7 @@
 // none of it (p.diffusion_beside_walls: its DensityDT 3 keeps it), so the diffusion is summed
 // apart from the continuity term and added, or not, once the particle's pairs are done.
 //   momentum    dv_i/dt    = -sum_j m ((P_i + P_j) / (rho_i rho_j) + Pi_ij) grad W_ij + g
+// (with the cubic spline also Monaghan's tensile correction, as DualSPHysics: smoothing_kernels.hpp)
 // with Monaghan's artificial viscosity Pi_ij, plus, when nu > 0, the laminar viscosity of
 // Lo and Shao (2002) (Morris et al. 1997 with a constant nu):
 //   dv_i/dt  += sum_j m 4 nu (r_ij . grad W_ij) / ((rho_i + rho_j)(r_ij^2 + eta^2)) v_ij
@@ -96,11 +97,16 @@ struct PairBody {
     // pressure_j() gives j's P / rho^2 where the momentum term needs it: the cell searches load
     // it there (loaded first, it stayed live through the whole body, and the GPU's cell-search
     // kernels spilled: make perf-check), the listed loop passes the value it loaded.
+    // The tensile correction's R of one particle from its P / rho^2 (CubicSpline).
+    static SPH_HD_INLINE real tensile_part(real pressure_over_rho2) {
+        return pressure_over_rho2 * (pressure_over_rho2 > 0 ? real(0.01) : real(-0.2));
+    }
     template <class PressureOf>
     SPH_HD_INLINE PairTerms terms_with(const ParticleSide& a, std::uint32_t j, const PressureOf& pressure_j,
                                        const real4& vr_j, const real3& rij, real r2) const {
         const bool fluid_j = !is_boundary(vr_j);
-        const real fac = kernel.grad_factor(sqrt_r(r2));
+        const real r = sqrt_r(r2);
+        const real fac = kernel.grad_factor(r);
         const real rho_i = density(a.vr), rho_j = density(vr_j);
         const real inv_rho_j = fast_divide(real(1), rho_j);
         const real rho_i_over_j = rho_i * inv_rho_j;
@@ -125,7 +131,10 @@ struct PairBody {
         // DualSPHysics' momentum form, (P_i + P_j) / (rho_i rho_j), from the P / rho^2 each
         // particle carries: P_i/rho_i^2 (rho_i / rho_j) + P_j/rho_j^2 (rho_j / rho_i).
         // (1 / rho_i is the same for all of i's pairs: the compiler takes it out of the loop.)
-        const real prs = a.pos.w * rho_i_over_j + pressure_j() * rho_j * fast_divide(real(1), rho_i);
+        const real pressure_over_rho2_j = pressure_j();
+        real prs = a.pos.w * rho_i_over_j + pressure_over_rho2_j * rho_j * fast_divide(real(1), rho_i);
+        if constexpr (Kernel::tensile_correction)
+            prs += kernel.tensile_weight(r) * (tensile_part(a.pos.w) + tensile_part(pressure_over_rho2_j));
         const real s = -p.mass * (prs + pi_ij) * fac;
         t.acc = s * rij;
         // A uniform runtime branch rather than a template flag: compiling the laminar term
