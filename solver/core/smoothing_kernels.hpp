@@ -34,21 +34,19 @@ struct CubicSpline {
     static constexpr bool tensile_correction = true;
     real inv_h, norm;  // norm = 1 / (pi h^3)
     SPH_HD explicit CubicSpline(real h) : inv_h(1 / h), norm(real(1.0 / 3.14159265358979323846) / (h * h * h)) {}
-    SPH_HD real w(real r) const {
-        const real q = r * inv_h;
-        if (q >= 2) return 0;
-        if (q < 1) return norm * (1 - real(1.5) * q * q + real(0.75) * q * q * q);
-        const real t = 2 - q;
-        return norm * real(0.25) * t * t * t;
-    }
+    SPH_HD real w(real r) const { return norm * shape(r * inv_h); }
     // (W(r) / W(h / 1.5))^4, W(h / 1.5) = norm 5/9: the tensile correction's weight.
     SPH_HD real tensile_weight(real r) const {
-        const real q = r * inv_h;
-        const real t = 2 - q;
-        const real shape = q < 1 ? 1 - real(1.5) * q * q + real(0.75) * q * q * q : q < 2 ? real(0.25) * t * t * t : real(0);
-        real f = shape * real(1.8);
+        real f = shape(r * inv_h) * real(1.8);
         f *= f;
         return f * f;
+    }
+    // W / norm at q = r / h.
+    SPH_HD static real shape(real q) {
+        if (q >= 2) return 0;
+        if (q < 1) return 1 - real(1.5) * q * q + real(0.75) * q * q * q;
+        const real t = 2 - q;
+        return real(0.25) * t * t * t;
     }
     // Both pieces evaluated and one selected: lanes of a warp sit on both sides of q = 1, and
     // two branches cost the GPU both paths plus their bookkeeping.
