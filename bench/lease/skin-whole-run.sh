@@ -4,13 +4,15 @@
 # Wendland, half cells, lists, 0-1 s, at skin 0.05, 0.07 and 0.1, one binary (.carry/bin/sphbench)
 # on one machine. Carry .carry-cluster. Logs and step CSVs come back in $OUT/skin.tar.gz.
 set -uo pipefail
-O=${OUT:-/tmp/out}; mkdir -p "$O/r"
+# The run tool brings back at most 8 files: the logs and CSVs are written beside $OUT and only
+# the archive goes in it.
+O=${OUT:-/tmp/out}; W=$(mktemp -d); mkdir -p "$O" "$W/r"
 for t in .carry-cluster/*.tar.xz; do [ -f "$t" ] && tar -xJf "$t"; done
 X="tools/gpu-run.sh exec"
-nvidia-smi --query-gpu=name,clocks.sm,clocks.mem,temperature.gpu,power.draw --format=csv > "$O/r/gpu.txt"
+nvidia-smi --query-gpu=name,clocks.sm,clocks.mem,temperature.gpu,power.draw --format=csv > "$W/r/gpu.txt"
 for skin in ${SKINS:-0.07 0.05 0.1}; do
   $X sphbench simulate dsph-dambreak --backend cuda --quiet --warmup 0 --end-time 1.0 --set kernel=wendland \
-    --cells-per-support 2 --verlet --skin "$skin" --out "$O/w/skin-$skin" > "$O/r/skin-$skin.txt" 2>&1
-  echo "skin $skin: $(grep -E 's per simulated second|Verlet lists' "$O/r/skin-$skin.txt" | tr '\n' ' ')"
-  tar -czf "$O/skin.tar.gz" -C "$O" r w
+    --cells-per-support 2 --verlet --skin "$skin" --out "$W/w/skin-$skin" > "$W/r/skin-$skin.txt" 2>&1
+  echo "skin $skin: $(grep -E 's per simulated second|Verlet lists' "$W/r/skin-$skin.txt" | tr '\n' ' ')"
+  tar -czf "$O/skin.tar.gz" -C "$W" r w
 done
