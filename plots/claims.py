@@ -474,6 +474,12 @@ def cell(text):
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
+def current_first(rows):
+    """Of one claim's rows, one folder each in the claim's order: the first whose result is current,
+    or the first when none is (a stale H200 result must not hide a current one of another GPU)."""
+    return next((r for r in rows if r[5] == "yes"), rows[0])
+
+
 def rows_of(claim, reference, hist):
     rows = []
     for src in claim["results"]:
@@ -491,8 +497,8 @@ def rows_of(claim, reference, hist):
         shown = claim["shown"].format(**{k: v for k, v in values.items() if not k.startswith("_")})
         rows.append([claim["where"], claim["paper"], shown, f"{gpu}, `results/reference/{src['path']}`",
                      f"{commit[:7]}{dirty}", freshness(commit, hist), f"**{verdict}**", why])
-        if not claim.get("all_results"):
-            break
+    if rows and not claim.get("all_results"):
+        rows = [current_first(rows)]
     if not rows:
         rows.append([claim["where"], claim["paper"], "no result yet", "-", "-", "-", "-",
                      "none of " + ", ".join(s if isinstance(s, str) else s["path"] for s in claim["results"])])

@@ -68,6 +68,16 @@ class ResultsPageTable(unittest.TestCase):
                 self.assertIn(r["verdict"], claims.VERDICTS, c["id"])
 
 
+class OneRowPerClaim(unittest.TestCase):
+    def test_a_current_result_is_shown_before_a_stale_one_listed_first(self):
+        stale = ["Figure 4", "claim", "1.34%", "NVIDIA H200", "92b8249", claims.STALE, "**holds**", "why"]
+        current = ["Figure 4", "claim", "0.70%", "NVIDIA H100", "f5f90d3", "yes", "**holds**", "why"]
+        self.assertIs(claims.current_first([stale, current]), current)
+        self.assertIs(claims.current_first([current, stale]), current)
+        other_stale = stale[:2] + ["2.0%"] + stale[3:]
+        self.assertIs(claims.current_first([stale, other_stale]), stale)
+
+
 class BenchmarkLogs(unittest.TestCase):
     def test_both_layouts_of_benchmarks_txt(self):
         old = ("== sphbench-base simulate dsph-dambreak (repetition 1)\ntime per step: median 4.355 ms (quartiles)\n"
