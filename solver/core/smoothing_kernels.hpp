@@ -41,12 +41,14 @@ struct CubicSpline {
         f *= f;
         return f * f;
     }
-    // W / norm at q = r / h.
+    // W / norm at q = r / h. Both pieces evaluated and one selected, as in grad_factor: the
+    // tensile weight takes it in every pair of the force loops, whose lanes sit on both sides of
+    // q = 1.
     SPH_HD static real shape(real q) {
-        if (q >= 2) return 0;
-        if (q < 1) return 1 - real(1.5) * q * q + real(0.75) * q * q * q;
         const real t = 2 - q;
-        return real(0.25) * t * t * t;
+        const real inner = 1 - real(1.5) * q * q + real(0.75) * q * q * q;
+        const real outer = real(0.25) * t * t * t;
+        return q >= 2 ? real(0) : (q < 1 ? inner : outer);
     }
     // Both pieces evaluated and one selected: lanes of a warp sit on both sides of q = 1, and
     // two branches cost the GPU both paths plus their bookkeeping.

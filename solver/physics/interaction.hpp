@@ -51,12 +51,15 @@ struct ForceInputs {
 
 // What a pair's terms read of particle i: its position (w: pressure), velocity and density,
 // and the previous step's.
+// 1 / rho_i is taken once here: nvcc kept a reciprocal of rho_i in every unrolled pair body.
 struct ParticleSide {
     real4 pos, vr, old;
+    real inv_rho;
     SPH_HD bool fluid() const { return !is_boundary(vr); }
 };
 SPH_HD ParticleSide particle_side(const ForceInputs& in, std::uint32_t i) {
-    return {in.pos[i], in.velrho[i], in.velrho_prev[i]};
+    const real4 vr = in.velrho[i];
+    return {in.pos[i], vr, in.velrho_prev[i], fast_divide(real(1), density(vr))};
 }
 
 // One pair's contribution to particle i: acceleration, d rho / dt of the continuity term, and
@@ -118,9 +121,8 @@ struct PairBody {
         const real4 old_j = fluid_j ? in.velrho_prev[j] : vr_j;
         if (Diffusion && fluid_j) {
             const real old_rho_j = density(old_j);
-            t.diffusion = fast_divide(fast_divide(diffusion_coef * (density(a.old) - old_rho_j - dot(hydrostatic_drho, rij)),
-                                              old_rho_j) * r2 * fac,
-                                  r2 + p.eta2);
+            t.diffusion = fast_divide(diffusion_coef * (density(a.old) - old_rho_j - dot(hydrostatic_drho, rij)) * r2 * fac,
+                                      old_rho_j * (r2 + p.eta2));
         } else if (Diffusion && !p.diffusion_beside_walls) {
             t.diffusion = real(INFINITY);
         }
@@ -130,9 +132,8 @@ struct PairBody {
         if (old_vdotr < 0) pi_ij = fast_divide(-visc_coef * old_vdotr, (r2 + p.eta2) * real(0.5) * (rho_i + rho_j));
         // DualSPHysics' momentum form, (P_i + P_j) / (rho_i rho_j), from the P / rho^2 each
         // particle carries: P_i/rho_i^2 (rho_i / rho_j) + P_j/rho_j^2 (rho_j / rho_i).
-        // (1 / rho_i is the same for all of i's pairs: the compiler takes it out of the loop.)
         const real pressure_over_rho2_j = pressure_j();
-        real prs = a.pos.w * rho_i_over_j + pressure_over_rho2_j * rho_j * fast_divide(real(1), rho_i);
+        real prs = a.pos.w * rho_i_over_j + pressure_over_rho2_j * rho_j * a.inv_rho;
         if constexpr (Kernel::tensile_correction)
             prs += kernel.tensile_weight(r) * (tensile_part(a.pos.w) + tensile_part(pressure_over_rho2_j));
         const real s = -p.mass * (prs + pi_ij) * fac;
