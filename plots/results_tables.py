@@ -678,17 +678,17 @@ def spheric2_sound_speed(folder):
                   "(`plots/spheric2.py`)."])
 
 
-def spheric2_p1_sampling(folder, finest_folder=None):
+def spheric2_p1_sampling(folder, *more_folders):
     """SPHERIC Test 2's first impact on P1 read from a gauge sampled at every step
-    (experiments/spheric2-p1-sampling.toml) and from the same run's 1 ms point samples (what the
-    spheric2 spec's gauge reads): the unfiltered peak, the 5 ms mean's peak and the impulse each
-    way, against the measurement filtered alike (plots/spheric2.py)."""
+    (experiments/spheric2-p1-sampling.toml; more_folders: the same gauges at the finest spacing and
+    with another diffusion form, each where it has been run) and from the same run's 1 ms point
+    samples (what the spheric2 spec's gauge reads): the unfiltered peak, the 5 ms mean's peak and the
+    impulse each way, against the measurement filtered alike (plots/spheric2.py)."""
     import numpy as np
     import spheric2 as sp2
     folder = need(folder)
     measured = sp2.read_measured(sp2.MEASURED)
-    folders = [folder] + ([Path(finest_folder)] if finest_folder is not None and Path(finest_folder, "runs.csv").is_file()
-                          else [])
+    folders = [folder] + [Path(f) for f in more_folders if Path(f, "runs.csv").is_file()]
     loaded = [(f, *sphplot.load_runs(f)) for f in folders]
     sources = [from_meta(f, meta) for f, _, meta in loaded]
     grid_m, meas = sp2.smoothed(measured["time"], measured["P1"], 0.8)
@@ -717,7 +717,8 @@ def spheric2_p1_sampling(folder, finest_folder=None):
                   "impulse Pa s (vs measured)"],
                  rows, sources,
                  ["Wendland with Verlet lists (skin 0.1), from rest to 0.6 s (dp 0.004: to 0.55 s, "
-                  "experiments/spheric2-p1-finest.toml), P1 (0.015 m off the box's face at "
+                  "experiments/spheric2-p1-finest.toml; a run labelled fourtakas-full: DensityDT 3, "
+                  "experiments/spheric2-p1-diffusion-walls.toml, the others DensityDT 2), P1 (0.015 m off the box's face at "
                   "z = 0.021) sampled at every step. The 1 ms columns read the same run's series as a gauge "
                   "sampled every 1 ms would (the first step at or after each ms: `point_sampled`). The 5 ms mean: "
                   "the integral of the linearly interpolated series over each centred 5 ms window, the same "

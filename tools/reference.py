@@ -522,6 +522,11 @@ def items(gpus=1):
              "(experiments/spheric2-p1-finest.toml)", "single", 450, ["sphbench"], sphbench_run("spheric2-p1-finest"),
              inputs=["experiments/spheric2-p1-finest.toml", "experiments/cases/spheric-test2.toml"],
              outputs=["spheric2-p1-finest/runs.csv"]),
+        Item("spheric2-p1-diffusion-walls", "SPHERIC Test 2's first impact on P1-P4 at dp 0.004 with DensityDT 3 "
+             "to 0.55 s (experiments/spheric2-p1-diffusion-walls.toml)", "single", 470, ["sphbench"],
+             sphbench_run("spheric2-p1-diffusion-walls"),
+             inputs=["experiments/spheric2-p1-diffusion-walls.toml", "experiments/cases/spheric-test2.toml"],
+             outputs=["spheric2-p1-diffusion-walls/runs.csv"]),
         Item("spheric2-diffusion-walls", "SPHERIC Test 2 to 2 s at dp 0.02 and 0.01 with DualSPHysics' DensityDT 2 "
              "and 3 (experiments/spheric2-diffusion-walls.toml)", "single", 110, ["sphbench"],
              sphbench_run("spheric2-diffusion-walls"),
