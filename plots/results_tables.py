@@ -718,8 +718,8 @@ def spheric2_p1_sampling(folder, *more_folders):
                  rows, sources,
                  ["Wendland with Verlet lists (skin 0.1), from rest to 0.6 s (dp 0.004: to 0.55 s, "
                   "experiments/spheric2-p1-finest.toml; a run labelled fourtakas-full: DensityDT 3, "
-                  "experiments/spheric2-p1-diffusion-walls.toml, the others DensityDT 2), P1 (0.015 m off the box's face at "
-                  "z = 0.021) sampled at every step. The 1 ms columns read the same run's series as a gauge "
+                  "experiments/spheric2-p1-diffusion-walls.toml, the others DensityDT 2), "
+                  "P1 (0.015 m off the box's face at z = 0.021) sampled at every step. The 1 ms columns read the same run's series as a gauge "
                   "sampled every 1 ms would (the first step at or after each ms: `point_sampled`). The 5 ms mean: "
                   "the integral of the linearly interpolated series over each centred 5 ms window, the same "
                   "filter on the measurement (`plots/spheric2.py`); the peak in 0.3-0.8 s, the impulse over 100 "
