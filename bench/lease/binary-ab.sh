@@ -13,11 +13,8 @@
 set -uo pipefail
 # The run tool brings back at most 8 files: everything is written beside $OUT and only the
 # archive goes in it.
-O=${OUT:-/tmp/out}; W=$(mktemp -d); mkdir -p "$O" "$W/r"
-for t in .carry-cluster/*.tar.xz; do [ -f "$t" ] && tar -xJf "$t"; done
-xz -dc .carry-cluster/sphbench-other.xz > .carry/bin/sphbench-other && chmod +x .carry/bin/sphbench-other
-X="tools/gpu-run.sh exec"
-nvidia-smi --query-gpu=name,clocks.sm,clocks.mem,temperature.gpu,power.draw --format=csv > "$W/r/gpu.txt"
+. "$(dirname "$0")/prologue.sh"
+[ -x .carry/bin/sphbench-other ] || { echo "binary-ab: no .carry-cluster/sphbench-other.xz to compare with"; exit 2; }
 declare -A CASE=(
   [wendland-lists]="1.0 --set kernel=wendland --cells-per-support 2 --verlet --skin 0.1"
   [cubic-lists]="1.0 --cells-per-support 2 --verlet --skin 0.1"

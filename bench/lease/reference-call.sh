@@ -16,11 +16,10 @@
 #   cat <files_at>/reference.tar.gz.part* | tar -xz): the next call's tree replaces the machine's
 #   results/reference/.
 set -uo pipefail
-O=${OUT:-/tmp/out}; mkdir -p "$O"
-for t in .carry-cluster/*.tar.xz; do [ -f "$t" ] && tar -xJf "$t"; done
+. "$(dirname "$0")/prologue.sh"
 [ -x .carry/bin/sphbench ] || { echo "reference-call: no .carry/bin/sphbench: carry .carry-cluster (this machine is a fresh one)"; exit 2; }
 [ -d .dsph ] && export DSPH=$PWD/.dsph
 budget=${1:?usage: reference-call.sh BUDGET_S [ITEMS...]}; shift
-nvidia-smi --query-gpu=name,clocks.sm,clocks.mem,temperature.gpu,power.draw --format=csv > "$O/gpu.txt"
+cp "$W/r/gpu.txt" "$O/gpu.txt"
 PYTHONUNBUFFERED=1 REFERENCE_ARCHIVE="$O/reference.tar.gz" REFERENCE_BUDGET_S="$budget" REFERENCE_ONLY="$*" \
   tools/gpu-run.sh exec python3 tools/reference.py ${FORCE:+--force} 2>&1 | tee "$O/reference.log" | grep -E "^\[|^reference:|estimate"

@@ -6,10 +6,7 @@
 set -uo pipefail
 # The run tool brings back at most 8 files: the logs and CSVs are written beside $OUT and only
 # the archive goes in it.
-O=${OUT:-/tmp/out}; W=$(mktemp -d); mkdir -p "$O" "$W/r"
-for t in .carry-cluster/*.tar.xz; do [ -f "$t" ] && tar -xJf "$t"; done
-X="tools/gpu-run.sh exec"
-nvidia-smi --query-gpu=name,clocks.sm,clocks.mem,temperature.gpu,power.draw --format=csv > "$W/r/gpu.txt"
+. "$(dirname "$0")/prologue.sh"
 for skin in ${SKINS:-0.07 0.05 0.1}; do
   $X sphbench simulate dsph-dambreak --backend cuda --quiet --warmup 0 --end-time 1.0 --set kernel=wendland \
     --cells-per-support 2 --verlet --skin "$skin" --out "$W/w/skin-$skin" > "$W/r/skin-$skin.txt" 2>&1
