@@ -12,6 +12,8 @@
 
 #include "core/error.hpp"
 #include "experiment_spec.hpp"
+#include "gauge_options.hpp"
+#include "gauge_tables.hpp"
 #include "out_of_memory.hpp"
 #include "toml_type_name.hpp"
 #include "value_range.hpp"
@@ -119,9 +121,14 @@ Scene within_memory(const std::string& scene, const SettingMap& options, const s
     }
 }
 
-}  // namespace
+// What a case file holds, read and checked once for every reader of it: the scene's boxes and
+// meshes, and its gauges (named).
+struct CaseContents {
+    BoxCase box;
+    std::vector<Gauge> gauges;
+};
 
-BoxCase load_case_file(const std::string& path) {
+CaseContents read_case_file(const std::string& path) {
     if (!std::filesystem::is_regular_file(path)) throw InputError("case file '" + path + "' does not exist");
     const CaseReader r(path);
     toml::table doc;
@@ -133,7 +140,7 @@ BoxCase load_case_file(const std::string& path) {
     r.check_keys(doc, {"case"}, "the top level of a case file");
     if (!doc.get("case")) throw InputError(path + ": a case file needs a [case] table");
     const toml::table& t = r.table(*doc.get("case"), "[case]");
-    std::vector<std::string> known = {"description", "domain", "domain_top", "tank", "fluid", "obstacle", "mesh"};
+    std::vector<std::string> known = {"description", "domain", "domain_top", "tank", "fluid", "obstacle", "mesh", "gauges"};
     for (const auto& k : box_case_option_keys()) known.push_back(k);
     r.check_keys(t, known, "[case]");
 
@@ -221,7 +228,39 @@ BoxCase load_case_file(const std::string& path) {
     }
     if (c.fluids.empty() && c.meshes.empty()) throw InputError(r.at(t.source()) + ": [case] has no [[case.fluid]] and no [[case.mesh]]: no fluid");
     check_box_case(c);
-    return c;
+
+    CaseContents contents;
+    if (const toml::node* n = t.get("gauges")) {
+        contents.gauges = read_gauge_tables(*n, path, "[[case.gauges]]");
+        name_gauges(contents.gauges);
+        // A force gauge's body is known here, before any run builds the scene; a position is
+        // checked against the built scene's domain (check_gauge), which the spacing sizes.
+        for (std::size_t i = 0; i < contents.gauges.size(); ++i) {
+            const Gauge& g = contents.gauges[i];
+            if (g.kind != GaugeKind::force) continue;
+            std::string names;
+            bool known_body = false;
+            for (const auto& [name, where] : bodies) {
+                names += (names.empty() ? "'" : ", '") + name + "'";
+                known_body = known_body || name == g.body;
+            }
+            if (!known_body)
+                r.fail(*n->as_array()->get(i)->as_table()->get("body"),
+                       "[[case.gauges]] " + std::to_string(i + 1) + ": force gauge '" + g.name + "': the case has no body '" +
+                           g.body + "' (its bodies: " + names + ")");
+        }
+    }
+    contents.box = std::move(c);
+    return contents;
+}
+
+}  // namespace
+
+BoxCase load_case_file(const std::string& path) { return read_case_file(path).box; }
+
+std::vector<Gauge> case_gauges(const std::string& scene) {
+    if (!is_case_scene(scene)) return {};
+    return read_case_file(case_file_of(scene)).gauges;
 }
 
 bool is_case_scene(const std::string& scene) { return scene.rfind(case_scene_prefix, 0) == 0; }

@@ -34,12 +34,27 @@
 //   height = 0.3                     #   required (m): scaled to this along its up axis
 //   min = [0.5, 0.2, 0.1]            #   required: where its bounding box's low corner goes
 //   up = "y"                         #   optional, "y" (rotated to z, the paper's meshes) or "z"
+//   [[case.gauges]]                  # gauges every run of the case samples, as DualSPHysics'
+//   kind = "pressure"                #   case XML carries its gauges: the keys of a spec's
+//   name = "P1"                      #   [[gauges]] (gauge_options.hpp); unnamed: KIND<n>
+//   x = 0.8395                       #   counting that kind in the case; a force gauge's body
+//   y = 0.4965                       #   must be one of the case's
+//   z = 0.021
+//   every = 0.001
+//
+// A run samples the case's gauges first, in the case's order; a gauge of the run's own (a
+// spec's [[gauges]], --gauge) with a case gauge's name takes that gauge's place (say, P1 at
+// every step, or moved), and the run's other gauges come after (merge_gauges).
 //
 // Refused with "FILE:LINE: ..." naming the key: an unknown key, a wrong type, max not above
 // min, a fluid box or obstacle outside the tank, a fluid box overlapping an obstacle, two
-// bodies of one name; and when built, a box smaller than one spacing.
+// bodies of one name, a gauge of an unknown kind, with an unknown or missing key, a gauge
+// name used twice, a force gauge on no body of the case; and when built, a box smaller than
+// one spacing (and by the run, a gauge outside the scene's domain: check_gauge).
 #include <string>
+#include <vector>
 
+#include "gauge.hpp"
 #include "scenes/box_case.hpp"
 #include "solver_settings.hpp"
 
@@ -47,6 +62,9 @@ namespace sph {
 
 // Throws InputError naming the file, the line and the key of any problem.
 BoxCase load_case_file(const std::string& path);
+// A "case:FILE" scene's [[case.gauges]], named, in the file's order (the file read and checked
+// as load_case_file checks it); no gauges for any other scene. Throws InputError.
+std::vector<Gauge> case_gauges(const std::string& scene);
 
 constexpr const char* case_scene_prefix = "case:";
 bool is_case_scene(const std::string& scene);

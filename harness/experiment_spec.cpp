@@ -18,8 +18,7 @@
 #include "case_file.hpp"
 #include "toml_type_name.hpp"
 #include "core/error.hpp"
-#include "gauge_options.hpp"
-#include "io/csv_writer.hpp"
+#include "gauge_tables.hpp"
 #include "scenes/scene.hpp"
 
 namespace sph {
@@ -190,40 +189,6 @@ ValidationRequest read_validation(const SpecReader& r, const toml::node& node, c
     return v;
 }
 
-// [[gauges]]: kind, name and the keys of gauge_options.hpp, as strings or numbers.
-std::vector<Gauge> read_gauges(const SpecReader& r, const toml::node& node) {
-    const toml::array* list = node.as_array();
-    if (!list) r.fail(node.source(), "'gauges' must be [[gauges]] tables, not " + toml_type_name(node));
-    std::vector<Gauge> gauges;
-    for (std::size_t i = 0; i < list->size(); ++i) {
-        const toml::node& item = *list->get(i);
-        const toml::table* t = item.as_table();
-        if (!t) r.fail(item.source(), "each [[gauges]] entry must be a table");
-        const std::string where = "[[gauges]] " + std::to_string(i + 1);
-        const std::string kind = r.text(*t, "kind", true, "", where);
-        std::map<std::string, std::string> keys;
-        for (const auto& [key, value] : *t) {
-            const std::string k(key.str());
-            if (k == "kind") continue;
-            if (value.is_string()) keys[k] = *value.value<std::string>();
-            else if (value.is_integer()) keys[k] = std::to_string(*value.value<long long>());
-            else if (value.is_floating_point()) keys[k] = CsvWriter::fmt(*value.value<double>());
-            else r.fail(value.source(), where + ": '" + k + "' must be a number or a string, not " + toml_type_name(value));
-        }
-        try {
-            gauges.push_back(make_gauge(kind, keys, where));
-        } catch (const InputError& e) {
-            r.fail(item.source(), e.what());
-        }
-    }
-    try {
-        name_gauges(gauges);
-    } catch (const InputError& e) {
-        r.fail(node.source(), e.what());
-    }
-    return gauges;
-}
-
 RunSpec read_run(const SpecReader& r, const toml::node& node, std::size_t index) {
     const toml::table* t = node.as_table();
     if (!t) r.fail(node.source(), "each [[runs]] entry must be a table");
@@ -334,7 +299,7 @@ ExperimentSpec load_spec(const std::string& path) {
     spec.record_blow_ups = blow_up == "record";
     if (const toml::node* v = doc.get("validation")) spec.validation = read_validation(r, *v, "[validation]");
 
-    if (const toml::node* gauges = doc.get("gauges")) spec.gauges = read_gauges(r, *gauges);
+    if (const toml::node* gauges = doc.get("gauges")) spec.gauges = read_gauge_tables(*gauges, path, "[[gauges]]");
 
     const toml::node* runs = doc.get("runs");
     if (!runs) r.fail_at(0, "missing required key 'runs' (one or more [[runs]] tables)");

@@ -55,8 +55,9 @@
 //     kind = "water_level"             #   <run>_gauges.csv: pressure, velocity (x, y, z),
 //     name = "wg1"                     #   water_level (x, y), max_height (x, y, radius),
 //     x = 0.6                          #   force (body = "tank"); every (s, > 0) required;
-//     y = 0.335                        #   name optional (gauge_options.hpp)
-//     every = 0.01
+//     y = 0.335                        #   name optional (gauge_options.hpp); a case file's
+//     every = 0.01                     #   gauge of the same name is replaced by this one, the
+//                                      #   case's others are sampled too (case_file.hpp)
 //   [host]                             # optional; when a run's backend resolves to the host:
 //     scale = 0.01                     #   particle counts times this (dp over its cube root)
 //     steps = 100                      #   replaces steps (with an end time: a cap)
@@ -127,7 +128,8 @@ struct ExperimentSpec {
     std::optional<StabilityStudy> stability;  // only `sphbench stability` runs these
     std::optional<ValidationRequest> validation;
     bool record_blow_ups = false;  // blow_up = "record"
-    std::vector<Gauge> gauges;     // [[gauges]]: sampled in every run (gauge_options.hpp)
+    std::vector<Gauge> gauges;     // [[gauges]]: sampled in every run (gauge_options.hpp); unnamed ones
+                                   // are named in the run, after a case file's gauges (merge_gauges)
 
     bool records(const std::string& item) const;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <set>
 
 #include "core/error.hpp"
@@ -111,6 +112,23 @@ void name_gauges(std::vector<Gauge>& gauges) {
         if (g.name.empty()) g.name = gauge_kind_name(g.kind) + std::to_string(count[k]);
         if (!names.insert(g.name).second) throw InputError("gauge name '" + g.name + "' is used twice");
     }
+}
+
+std::vector<Gauge> merge_gauges(const std::vector<Gauge>& from_case, const std::vector<Gauge>& requested) {
+    // A name the request gives twice would replace one case gauge twice: refused as it would
+    // be without a case.
+    std::vector<Gauge> request_named = requested;
+    name_gauges(request_named);
+    std::vector<Gauge> gauges = from_case;
+    const auto case_end = std::ptrdiff_t(from_case.size());
+    for (const Gauge& g : requested) {
+        const auto same = std::find_if(gauges.begin(), gauges.begin() + case_end,
+                                       [&](const Gauge& c) { return !g.name.empty() && c.name == g.name; });
+        if (same != gauges.begin() + case_end) *same = g;
+        else gauges.push_back(g);
+    }
+    name_gauges(gauges);
+    return gauges;
 }
 
 }  // namespace sph

@@ -50,8 +50,8 @@ SceneRunResult run_scene(const SceneRunRequest& request) {
     res.boundary = scene.n_boundary;
     res.dp = scene.dp;
     res.scene_settings = scene.settings;
-    std::vector<Gauge> gauges = req.gauges;
-    name_gauges(gauges);
+    // A case file's gauges, with the request's replacing those of their names (gauge_options.hpp).
+    const std::vector<Gauge> gauges = merge_gauges(case_gauges(req.scene), req.gauges);
     for (const Gauge& g : gauges) check_gauge(g, scene);
     SolverOptions solver = req.solver;
     if (req.calibrate_search) {

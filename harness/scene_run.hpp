@@ -33,8 +33,10 @@ struct SceneRunRequest {
     Metadata metadata;            // provenance lines for every file
     ValidationRequest validation; // off unless asked for: the scene's metric at output times
     bool record_blow_up = false;  // a blow-up ends the run and is reported in the result, not thrown
-    // Sampled into <basename>_gauges.csv (gauge_sink.hpp); checked against the scene (exit 2
-    // material) before the simulation is built. Unnamed ones are named KIND<n>.
+    // Sampled into <basename>_gauges.csv (gauge_sink.hpp) with a case file's own gauges: the
+    // case's first, one of these with a case gauge's name in its place, the others after
+    // (merge_gauges); checked against the scene (exit 2 material) before the simulation is
+    // built. Unnamed ones are named KIND<n>.
     std::vector<Gauge> gauges;
 };
 

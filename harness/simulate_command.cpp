@@ -142,7 +142,8 @@ void add_simulate_command(CLI::App& app, CommandContext& ctx) {
                     "a gauge sampled every EVERY simulated seconds into SCENE_gauges.csv (repeatable): "
                     "KIND:key=value,... with KIND pressure or velocity (x, y, z), water_level (x, y), max_height "
                     "(x, y, radius) or force (body: a body the scene names, e.g. tank); every kind takes every "
-                    "(required) and name, e.g. --gauge water_level:x=0.6,y=0.335,every=0.01");
+                    "(required) and name, e.g. --gauge water_level:x=0.6,y=0.335,every=0.01; a case file's gauges "
+                    "are sampled too, and one named as a case gauge replaces it");
     cmd->add_flag("--quiet", args->quiet, "no progress line");
     cmd->add_flag("--auto-search", args->auto_search,
                   "time every search strategy for a few steps first, Verlet lists at four layouts and skins too "

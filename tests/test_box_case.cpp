@@ -216,6 +216,53 @@ TEST_F(BoxCaseFile, BadCasesAreRefusedNamingTheFileLineAndKey) {
     EXPECT_NE(message.find("unknown key 'colour'"), std::string::npos) << message;
 }
 
+// [[case.gauges]]: a spec's [[gauges]] keys, read by the same reader (gauge_tables.hpp), named
+// in the case's order; bad ones refused naming the file, the line and the key.
+TEST_F(BoxCaseFile, CaseGaugesAreReadInOrderAndBadOnesRefusedNamingTheFileLineAndKey) {
+    const std::string fluid = "[[case.fluid]]\nmin = [0, 0, 0]\nmax = [0.4, 0.5, 0.3]\n";  // lines 6-8
+    const std::string level = "[[case.gauges]]\nkind = \"water_level\"\nname = \"H1\"\nx = 0.5\ny = 0.25\nevery = 0.01\n";
+    const std::string path = write(tank_text + fluid + level +  // the level: lines 9-14
+                                   "[[case.gauges]]\nkind = \"pressure\"\nx = 0.2\ny = 0.25\nz = 0.1\nevery = 0.002\n"
+                                   "[[case.gauges]]\nkind = \"force\"\nname = \"walls\"\nbody = \"tank\"\nevery = 1\n");
+    const std::vector<Gauge> gauges = case_gauges(case_scene_prefix + path);
+    ASSERT_EQ(gauges.size(), 3u);
+    EXPECT_EQ(gauges[0].name, "H1");
+    EXPECT_EQ(gauges[0].kind, GaugeKind::water_level);
+    EXPECT_EQ(gauges[0].x, 0.5);
+    EXPECT_EQ(gauges[0].every, 0.01);
+    EXPECT_EQ(gauges[1].name, "pressure1");  // unnamed: KIND<n>, as a spec's
+    EXPECT_EQ(gauges[1].z, 0.1);
+    EXPECT_EQ(gauges[2].name, "walls");
+    EXPECT_EQ(gauges[2].body, "tank");
+    EXPECT_TRUE(case_gauges("tank").empty()) << "a scene of the catalogue has no case gauges";
+    EXPECT_TRUE(case_gauges(case_scene_prefix + write(tank_text + fluid)).empty());
+    EXPECT_EQ(load_case_file(path).fluids.size(), 1u);  // the gauges are no part of the scene's boxes
+
+    struct Bad {
+        std::string text, expected;
+    };
+    const std::vector<Bad> bad = {
+        {level + "colour = \"blue\"\n", ":9: [[case.gauges]] 1: unknown key 'colour' for a water_level gauge"},
+        {"[[case.gauges]]\nkind = \"swl\"\nx = 0.5\ny = 0.25\nevery = 0.01\n", ":9: [[case.gauges]] 1: unknown gauge kind 'swl'"},
+        {"[[case.gauges]]\nkind = \"pressure\"\nx = 0.5\ny = 0.25\nevery = 0.01\n", ":9: [[case.gauges]] 1: a pressure gauge needs 'z'"},
+        {"[[case.gauges]]\nname = \"H1\"\nx = 0.5\ny = 0.25\nevery = 0.01\n", ":9: missing required key 'kind' in [[case.gauges]] 1"},
+        {level + level, ":17: gauge name 'H1' is used twice (also at " + (dir_ / "case.toml").string() + ":11)"},
+        {"[[case.gauges]]\nkind = \"water_level\"\nx = 0.5\ny = true\nevery = 0.01\n",
+         ":12: [[case.gauges]] 1: 'y' must be a number or a string, not a boolean"},
+        {level + "[[case.gauges]]\nkind = \"force\"\nbody = \"lid\"\nevery = 1\n",
+         ":17: [[case.gauges]] 2: force gauge 'force1': the case has no body 'lid' (its bodies: 'tank')"},
+    };
+    for (const auto& b : bad) {
+        const std::string message = refusal(tank_text + fluid + b.text);
+        EXPECT_NE(message.find((dir_ / "case.toml").string() + b.expected), std::string::npos)
+            << "expected '" << b.expected << "' in: " << message;
+        EXPECT_THROW(case_gauges(case_scene_prefix + (dir_ / "case.toml").string()), InputError) << b.expected;
+    }
+    EXPECT_NE(refusal("[case]\ndp = 0.05\ngauges = 3\n" + tank_text.substr(17) + fluid)
+                  .find(":3: 'gauges' must be [[case.gauges]] tables, not an integer"),
+              std::string::npos);
+}
+
 TEST_F(BoxCaseFile, FluidIsMadeOnceBesideWallsObstaclesAndOtherFluid) {
     // Two fluid boxes sharing a face and a third inside the first; an obstacle touching the water.
     const Scene s = build_scene(case_scene_prefix + write(tank_text +

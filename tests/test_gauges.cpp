@@ -8,10 +8,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include "case_file.hpp"
 #include "commands.hpp"
 #include "experiment_spec.hpp"
+#include "gauge_options.hpp"
 #include "sphbench_driver.hpp"
 #include "test_support.hpp"
 #include "core/smoothing_kernels.hpp"
@@ -270,6 +272,76 @@ TEST(GaugesCli, SimulateWritesGaugesEveryIntervalOfSimulatedTime) {
     fs::remove_all(out);
 }
 
+// `sphbench simulate` for 20 steps on the host of a small case with three gauges of its own (a
+// level, an unnamed pressure and the force on the tank), with `gauges` as --gauge options: the
+// path of its _gauges.csv.
+std::filesystem::path simulate_gauged_case(const std::filesystem::path& folder, const std::vector<std::string>& gauges) {
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    const std::filesystem::path file = folder / "gauged.toml";
+    std::ofstream(file) << "[case]\ndp = 0.04\n[case.tank]\nmin = [0, 0, 0]\nmax = [0.4, 0.2, 0.4]\n"
+                           "[[case.fluid]]\nmin = [0, 0, 0]\nmax = [0.2, 0.2, 0.2]\n"
+                           "[[case.gauges]]\nkind = \"water_level\"\nname = \"level\"\nx = 0.1\ny = 0.1\nevery = 0.004\n"
+                           "[[case.gauges]]\nkind = \"pressure\"\nx = 0.1\ny = 0.1\nz = 0.06\nevery = 0.004\n"
+                           "[[case.gauges]]\nkind = \"force\"\nname = \"walls\"\nbody = \"tank\"\nevery = 0.004\n";
+    std::vector<std::string> args = {"simulate", "case:" + file.string(), "--backend", "host", "--steps", "20",
+                                     "--warmup", "0", "--quiet", "--out", (folder / "out").string()};
+    for (const std::string& g : gauges) args.insert(args.end(), {"--gauge", g});
+    std::string message;
+    EXPECT_EQ(test::sphbench(args, message), exit_ok) << message;
+    return folder / "out" / "gauged_gauges.csv";
+}
+
+std::string text_of(const std::filesystem::path& path) {
+    std::ifstream raw(path);
+    return std::string((std::istreambuf_iterator<char>(raw)), std::istreambuf_iterator<char>());
+}
+
+TEST(GaugesCli, SimulateSamplesACaseFilesGaugesWithNoneGiven) {
+    namespace fs = std::filesystem;
+    const fs::path folder = fs::temp_directory_path() / "sph_gauges_case";
+    const fs::path csv = simulate_gauged_case(folder, {});
+    const std::vector<std::string> lines = csv_lines(csv);
+    ASSERT_GE(lines.size(), 3u);
+    EXPECT_EQ(lines[0], "time,level,pressure1,walls_x,walls_y,walls_z");
+    const std::string text = text_of(csv);
+    EXPECT_NE(text.find("# gauge.level: water_level x=0.1 y=0.1 every=0.004"), std::string::npos) << text;
+    // The case's level at x = 0.1 stands in its water, 0.2 m deep at the start.
+    const std::string first = lines[1].substr(lines[1].find(',') + 1);
+    EXPECT_NEAR(std::stod(first), 0.2, 0.04) << lines[1];
+    fs::remove_all(folder);
+}
+
+TEST(GaugesCli, AGaugeNamedAsACaseGaugeReplacesItAndOthersAreAppended) {
+    namespace fs = std::filesystem;
+    const fs::path folder = fs::temp_directory_path() / "sph_gauges_case_override";
+    const fs::path csv = simulate_gauged_case(folder, {"water_level:name=level,x=0.3,y=0.1,every=0.002",
+                                                       "pressure:x=0.1,y=0.1,z=0.1,every=0.002",
+                                                       "velocity:name=v,x=0.1,y=0.1,z=0.1,every=0.004"});
+    const std::vector<std::string> lines = csv_lines(csv);
+    ASSERT_GE(lines.size(), 4u);
+    EXPECT_EQ(lines[0], "time,level,pressure1,walls_x,walls_y,walls_z,pressure2,v_x,v_y,v_z");
+    const std::string text = text_of(csv);
+    EXPECT_NE(text.find("# gauge.level: water_level x=0.3 y=0.1 every=0.002"), std::string::npos) << text;
+    EXPECT_NE(text.find("# gauge.pressure1: pressure x=0.1 y=0.1 z=0.06 every=0.004"), std::string::npos) << text;
+    EXPECT_NE(text.find("# gauge.pressure2: pressure x=0.1 y=0.1 z=0.1 every=0.002"), std::string::npos) << text;
+    // The level now every 2 ms: a value in every row, the case's 4 ms gauges in every other.
+    int with_level = 0, with_case_pressure = 0;
+    for (std::size_t k = 1; k < lines.size(); ++k) {
+        std::vector<std::string> cells;
+        std::stringstream row(lines[k]);
+        for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+        cells.resize(10);
+        with_level += !cells[1].empty();
+        with_case_pressure += !cells[2].empty();
+    }
+    EXPECT_EQ(with_level, int(lines.size()) - 1);
+    EXPECT_LT(with_case_pressure, with_level);
+    // The level moved to x = 0.3, a dry line at the start (the water stands at x < 0.2).
+    EXPECT_EQ(lines[1].substr(0, lines[1].find(',', lines[1].find(',') + 1)), "0,nan");
+    fs::remove_all(folder);
+}
+
 TEST(GaugesCli, BadGaugesExit2BeforeAnyStep) {
     namespace fs = std::filesystem;
     const fs::path out = fs::temp_directory_path() / "sph_gauges_bad";
@@ -307,7 +379,7 @@ TEST(GaugesSpec, GaugeTablesAreReadStrictly) {
     EXPECT_EQ(spec.gauges[0].name, "wg1");
     EXPECT_EQ(spec.gauges[0].kind, GaugeKind::water_level);
     EXPECT_EQ(spec.gauges[0].x, 0.2);
-    EXPECT_EQ(spec.gauges[1].name, "force1");
+    EXPECT_EQ(spec.gauges[1].name, "") << "named in the run, after a case file's gauges (merge_gauges)";
     EXPECT_EQ(spec.gauges[1].every, 1.0);
     std::ofstream(file) << head << "[[gauges]]\nkind = \"velocity\"\nx = 0.2\ny = 0.1\nz = 0.1\nradius = 2\nevery = 0.01\n";
     try {
@@ -318,7 +390,51 @@ TEST(GaugesSpec, GaugeTablesAreReadStrictly) {
                   std::string::npos)
             << e.what();
     }
+    // A name given twice, or one an unnamed gauge would be given: refused at load, naming both lines.
+    const std::string level = "[[gauges]]\nkind = \"water_level\"\nname = \"wg1\"\nx = 0.2\ny = 0.1\nevery = 0.01\n";
+    std::ofstream(file) << head << level << level;
+    try {
+        load_spec(file.string());
+        ADD_FAILURE() << "two gauges named wg1 were accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(":14: gauge name 'wg1' is used twice (also at " + file.string() + ":8)"),
+                  std::string::npos)
+            << e.what();
+    }
+    std::ofstream(file) << head << "[[gauges]]\nkind = \"force\"\nbody = \"tank\"\nevery = 1\n"
+                        << "[[gauges]]\nkind = \"force\"\nname = \"force1\"\nbody = \"tank\"\nevery = 1\n";
+    EXPECT_THROW(load_spec(file.string()), InputError);
     fs::remove(file);
+}
+
+Gauge named(GaugeKind kind, const std::string& name, double every) {
+    Gauge g = gauge_at(kind, name, 0.1, 0.1, 0.1);
+    g.every = every;
+    return g;
+}
+
+// The rule of run_scene: the case's gauges in their order, a request's gauge of a case gauge's
+// name in its place, the request's others after; unnamed ones named last, over the whole list.
+TEST(GaugesMerge, RequestGaugesReplaceCaseGaugesOfTheirNameAndTheOthersFollow) {
+    const std::vector<Gauge> from_case = {named(GaugeKind::water_level, "H1", 0.005),
+                                          named(GaugeKind::pressure, "P1", 0.001),
+                                          named(GaugeKind::pressure, "pressure1", 0.001)};  // named by the case
+    const std::vector<Gauge> requested = {named(GaugeKind::velocity, "V", 0.01), named(GaugeKind::pressure, "P1", 1e-5),
+                                          named(GaugeKind::pressure, "", 0.002)};
+    const std::vector<Gauge> gauges = merge_gauges(from_case, requested);
+    std::vector<std::string> names;
+    for (const Gauge& g : gauges) names.push_back(g.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"H1", "P1", "pressure1", "V", "pressure3"}));
+    EXPECT_EQ(gauges[1].every, 1e-5) << "the request's P1 in the case's place";
+    EXPECT_EQ(gauges[4].every, 0.002) << "an unnamed request gauge is appended, not put in the case's pressure1";
+    // Without a case: the request's gauges as they were sampled before case gauges existed.
+    const std::vector<Gauge> alone = merge_gauges({}, requested);
+    EXPECT_EQ(alone.size(), 3u);
+    EXPECT_EQ(alone[2].name, "pressure2");
+    EXPECT_TRUE(merge_gauges(from_case, {}).size() == 3u);
+    // A name the request gives twice would replace one case gauge twice: refused.
+    EXPECT_THROW(merge_gauges(from_case, {named(GaugeKind::pressure, "P1", 0.1), named(GaugeKind::pressure, "P1", 0.2)}),
+                 InputError);
 }
 
 }  // namespace
