@@ -6,6 +6,7 @@
 
 #include "backend/subdomain.hpp"
 #include "cli_options.hpp"
+#include "case_file.hpp"
 #include "core/error.hpp"
 #include "experiment_runner.hpp"
 #include "result_freshness.hpp"
@@ -69,6 +70,22 @@ std::string overrides_text(const ExperimentArgs& a) {
     return s.empty() ? "none" : s;
 }
 
+// The case files the runs build their scenes from, each once as "FILE=HASH" in run order, or
+// "none": a case file edited (its geometry, its gauges) makes the results out of date as an
+// edited spec does (result_freshness.hpp).
+std::string case_hashes_text(const Experiment& e) {
+    std::string s;
+    std::vector<std::string> seen;
+    for (const PlannedRun& r : e.runs) {
+        if (!is_case_scene(r.scene)) continue;
+        const std::string file = case_file_of(r.scene);
+        if (std::find(seen.begin(), seen.end(), file) != seen.end()) continue;
+        seen.push_back(file);
+        s += (s.empty() ? "" : " ") + file + "=" + spec_hash(file);
+    }
+    return s.empty() ? "none" : s;
+}
+
 Metadata experiment_metadata(const Experiment& e, const ExperimentArgs& a, const CommandContext& ctx) {
     const ExperimentSpec& spec = e.spec;
     std::vector<ImplementationVariants> variants;
@@ -79,6 +96,7 @@ Metadata experiment_metadata(const Experiment& e, const ExperimentArgs& a, const
                              {"reproduces", spec.reproduces},
                              {"spec", spec.path},
                              {"spec_hash", spec_hash(spec.path)},
+                             {"case_hashes", case_hashes_text(e)},
                              {"binary_hash", binary_hash()},
                              {"overrides", overrides_text(a)},
                              {"seed", std::to_string(spec.seed)},

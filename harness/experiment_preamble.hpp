@@ -49,7 +49,7 @@ std::vector<std::string> override_arguments(const ExperimentArgs& args);
 std::string overrides_text(const ExperimentArgs& args);
 
 // The provenance of every table: build, backend, devices, date, command line, then the
-// experiment's experiment, reproduces, spec, spec_hash, binary_hash, overrides, seed, scale
+// experiment's experiment, reproduces, spec, spec_hash, case_hashes, binary_hash, overrides, seed, scale
 // and reduced_scale. A command appends its own keys after these.
 Metadata experiment_metadata(const Experiment& e, const ExperimentArgs& args, const CommandContext& ctx);
 

@@ -20,7 +20,7 @@ bool results_up_to_date(const std::string& csv, const Metadata& now) {
             if (k == key) return v;
         return std::string("\x01missing");
     };
-    for (const char* key : {"spec_hash", "binary_hash", "overrides", "backend", "float64_binary_hash"})
+    for (const char* key : {"spec_hash", "case_hashes", "binary_hash", "overrides", "backend", "float64_binary_hash"})
         if (value(old, key) != value(now, key)) return false;
     return true;
 }

@@ -8,8 +8,9 @@
 namespace sph {
 
 // True when `csv` exists, its metadata reads, and it agrees with `now` on the spec's hash, the
-// binary's (and the float64 binary's, where runs were handed to one), the command line's
-// overrides and the backend. A key absent from both counts as agreeing.
+// hashes of the case files its runs are built from, the binary's (and the float64 binary's,
+// where runs were handed to one), the command line's overrides and the backend. A key absent
+// from both counts as agreeing.
 bool results_up_to_date(const std::string& csv, const Metadata& now);
 
 }  // namespace sph

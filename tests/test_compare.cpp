@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "core/error.hpp"
 #include "csv_table.hpp"
+#include "experiment_spec.hpp"
 #include "io/csv_writer.hpp"
 #include "regression_compare.hpp"
 #include "repetition_plan.hpp"
@@ -464,6 +465,31 @@ TEST_F(CompareTest, RunTwiceOnTheHostThenCountersMatch) {
     EXPECT_EQ(sphbench({"run", spec, "--backend", "host", "--out", out1, "--quiet"}), 0);
     EXPECT_NE(::testing::internal::GetCapturedStdout().find("tiny: up to date"), std::string::npos);
     EXPECT_EQ(fs::last_write_time(out1 + "/tiny/runs.csv"), before);
+}
+
+// A case file is part of what the results were made from: edited (its geometry, its gauges),
+// the results are run again, as for an edited spec; untouched, they are skipped.
+TEST_F(CompareTest, AnEditedCaseFileMakesItsExperimentsResultsOutOfDate) {
+    const std::string case_file = (dir_ / "tank.toml").string(), spec = (dir_ / "tiny-case.toml").string();
+    const std::string tank = "[case]\ndp = 0.05\n[case.tank]\nmin = [0, 0, 0]\nmax = [0.3, 0.2, 0.3]\n"
+                             "[[case.fluid]]\nmin = [0, 0, 0]\nmax = [0.15, 0.2, 0.15]\n";
+    std::ofstream(case_file) << tank;
+    std::ofstream(spec) << "name = \"tiny-case\"\nreproduces = \"the freshness test\"\nsteps = 3\n"
+                           "record = [\"summary\"]\n[[runs]]\nscene = \"case:tank.toml\"\nlabel = \"tank\"\n";
+    const std::string out = (dir_ / "out-case").string();
+    ASSERT_EQ(sphbench({"run", spec, "--backend", "host", "--out", out, "--quiet"}), 0);
+    const CsvTable t = read_csv(out + "/tiny-case/runs.csv");
+    ASSERT_TRUE(t.meta("case_hashes").has_value());
+    EXPECT_EQ(t.meta("case_hashes").value(), case_file + "=" + spec_hash(case_file));
+    const auto run_again = [&] {
+        ::testing::internal::CaptureStdout();
+        EXPECT_EQ(sphbench({"run", spec, "--backend", "host", "--out", out, "--quiet"}), 0);
+        return ::testing::internal::GetCapturedStdout().find("tiny-case: up to date") == std::string::npos;
+    };
+    EXPECT_FALSE(run_again());  // nothing changed
+    std::ofstream(case_file) << tank << "[[case.gauges]]\nkind = \"pressure\"\nx = 0.05\ny = 0.1\nz = 0.05\nevery = 0.001\n";
+    EXPECT_TRUE(run_again());   // the case gained a gauge
+    EXPECT_FALSE(run_again());
 }
 
 // What `run --baseline` adds: doubling while AMBIGUOUS, up to the cap; nothing while NOISY or
